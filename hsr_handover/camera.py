@@ -1,0 +1,67 @@
+"""The HSR's head RGB-D camera (an Xtion): intrinsics from the scenario, mounted on the head."""
+
+from __future__ import annotations
+
+import math
+
+from pydrake.geometry import (
+    ClippingRange,
+    ColorRenderCamera,
+    DepthRange,
+    DepthRenderCamera,
+    RenderCameraCore,
+    SceneGraph,
+)
+from pydrake.math import RigidTransform
+from pydrake.multibody.plant import MultibodyPlant
+from pydrake.multibody.tree import ModelInstanceIndex
+from pydrake.systems.framework import DiagramBuilder
+from pydrake.systems.sensors import CameraInfo
+
+from hsr_handover.hsr import CAMERA_FRAME
+from hsr_handover.scenario import CameraConfig
+from hsr_handover.systems.head_camera import HeadCamera
+
+
+def camera_fov_y(width: int, height: int, fov_x: float) -> float:
+    """Vertical field of view of a pinhole camera with square pixels."""
+    return 2.0 * math.atan(math.tan(fov_x / 2.0) * height / width)
+
+
+def camera_info(config: CameraConfig) -> CameraInfo:
+    """Pinhole intrinsics for the configured image size and horizontal field of view."""
+    return CameraInfo(
+        config.width, config.height, camera_fov_y(config.width, config.height, config.fov_x)
+    )
+
+
+def add_head_camera(
+    builder: DiagramBuilder,
+    plant: MultibodyPlant,
+    scene_graph: SceneGraph,
+    robot: ModelInstanceIndex,
+    config: CameraConfig,
+    renderer: str,
+) -> HeadCamera:
+    """Mount the head camera on the robot's camera frame, rendering colour, depth and (when
+    configured) labels at `config.rate_hz`; images are held between frames, as a real
+    camera's are."""
+    frame = plant.GetFrameByName(CAMERA_FRAME, robot)
+    parent = plant.GetBodyFrameIdOrThrow(frame.body().index())
+    near, far = config.depth_range
+    core = RenderCameraCore(
+        renderer, camera_info(config), ClippingRange(0.05, far + 1.0), RigidTransform()
+    )
+    camera = builder.AddNamedSystem(
+        "head_camera",
+        HeadCamera(
+            ColorRenderCamera(core, show_window=False),
+            DepthRenderCamera(core, DepthRange(near, far)),
+            parent,
+            frame.GetFixedPoseInBodyFrame(),
+            config.rate_hz,
+            config.render_label,
+        ),
+    )
+    builder.Connect(scene_graph.get_query_output_port(), camera.GetInputPort("query_object"))
+    return camera

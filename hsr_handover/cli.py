@@ -1,0 +1,142 @@
+"""The `hsr-handover` command.
+
+Errors in what the user gave (a broken scenario, a bad argument, an unwritable output path)
+print one line `error: ...` and exit 2 without writing anything; a failure during the
+simulation prints one line and exits 1. No tracebacks: `--debug` shows them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+EXIT_USAGE = 2
+EXIT_FAILED = 1
+
+
+class UsageError(Exception):
+    """Bad user input found before anything runs."""
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="hsr-handover",
+        description="Toyota HSR handover by topological mapping, simulated in Drake.",
+    )
+    parser.add_argument("--debug", action="store_true", help="show tracebacks on errors")
+    commands = parser.add_subparsers(dest="command", required=True)
+    run = commands.add_parser("run", help="simulate a scenario and write an HTML replay")
+    run.add_argument("scenario", type=Path, help="scenario YAML file")
+    run.add_argument("--html", type=Path, help="replay file to write (default: SCENARIO.html)")
+    run.add_argument("--duration", type=float, help="simulated seconds (overrides the file)")
+    run.add_argument("--seed", type=int, help="random seed (overrides the file)")
+    validate = commands.add_parser("validate", help="check a scenario without simulating it")
+    validate.add_argument("scenario", type=Path, help="scenario YAML file")
+    return parser
+
+
+def _replay_path(args: argparse.Namespace) -> Path:
+    path = args.html if args.html is not None else Path(args.scenario.stem + ".html")
+    if path.suffix.lower() != ".html":
+        raise UsageError(f"--html: expected a path ending in .html, got {str(path)!r}")
+    directory = path.parent if str(path.parent) else Path(".")
+    if not directory.is_dir():
+        raise UsageError(f"--html: expected an existing directory, {str(directory)!r} is not one")
+    if not os.access(directory, os.W_OK):
+        raise UsageError(f"--html: expected a writable directory, {str(directory)!r} is not")
+    return path
+
+
+def _apply_overrides(scenario, args: argparse.Namespace) -> None:
+    if args.duration is not None:
+        if not args.duration > 0:
+            raise UsageError(
+                f"--duration: expected a positive number of seconds, got {args.duration}"
+            )
+        scenario.simulation.duration = args.duration
+    if args.seed is not None:
+        if args.seed < 0:
+            raise UsageError(f"--seed: expected a non-negative integer, got {args.seed}")
+        scenario.simulation.seed = args.seed
+
+
+class _ProgressBar:
+    """A bar over simulated time on stderr: redrawn in place on a terminal, otherwise one line
+    per tenth so logs stay short."""
+
+    def __init__(self, width: int = 30):
+        self._width = width
+        self._interactive = sys.stderr.isatty()
+        self._last_tenth = -1
+
+    def __call__(self, now: float, total: float) -> None:
+        done = now >= total
+        tenth = int(10 * now / total)
+        if not self._interactive and tenth == self._last_tenth and not done:
+            return
+        self._last_tenth = tenth
+        filled = int(self._width * now / total)
+        bar = "#" * filled + "." * (self._width - filled)
+        text = f"[{bar}] {now:6.2f} / {total:.2f} s simulated"
+        if self._interactive:
+            print("\r" + text, end="\n" if done else "", file=sys.stderr, flush=True)
+        else:
+            print(text, file=sys.stderr, flush=True)
+
+
+def _run(args: argparse.Namespace) -> int:
+    from hsr_handover.scenario import load_scenario
+    from hsr_handover.simulate import run_scenario
+
+    scenario = load_scenario(args.scenario)
+    _apply_overrides(scenario, args)
+    replay = _replay_path(args)
+    report = run_scenario(scenario, replay=replay, progress=_ProgressBar())
+    print(f"sim time:    {report.sim_time:.2f} s")
+    print(f"wall time:   {report.wall_time:.2f} s")
+    print(f"real-time factor: {report.real_time_factor:.2f}")
+    print(f"replay:      {report.replay}")
+    return 0
+
+
+def _validate(args: argparse.Namespace) -> int:
+    from hsr_handover.scenario import load_scenario
+    from hsr_handover.simulate import prepare_station
+
+    scenario = load_scenario(args.scenario)
+    prepare_station(scenario, with_meshcat=False)
+    print(
+        f"ok: {args.scenario} ({len(scenario.objects)} objects, "
+        f"{len(scenario.person.behavior)} actions, {scenario.simulation.duration:g} s)"
+    )
+    return 0
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    args = _parser().parse_args(argv)
+    from hsr_handover.scenario import ScenarioError
+
+    handlers = {"run": _run, "validate": _validate}
+    try:
+        return handlers[args.command](args)
+    except (ScenarioError, UsageError) as error:
+        if args.debug:
+            raise
+        print(f"error: {error}", file=sys.stderr)
+        return EXIT_USAGE
+    except (RuntimeError, ValueError) as error:
+        if args.debug:
+            raise
+        first_line = str(error).strip().splitlines()[0] if str(error).strip() else type(error)
+        print(f"error: the simulation failed: {first_line}", file=sys.stderr)
+        return EXIT_FAILED
+    except KeyboardInterrupt:
+        print("error: interrupted; no replay written", file=sys.stderr)
+        return EXIT_FAILED
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,163 @@
+"""The person's scripted behaviour as a timeline of joint targets with human-like moves.
+
+Each action sets a whole-body target posture (PERSON_JOINTS order); the body moves between
+targets along minimum-jerk profiles whose duration follows from a peak joint speed, so motions
+look like a person's (smooth, bell-shaped speed) rather than a servo's.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Sequence
+
+import numpy as np
+
+from hsr_handover.human.aiming import (
+    head_angles,
+    pointing_arm_angles,
+    reaching_arm_angles,
+)
+from hsr_handover.human.body import ARM_JOINT_SUFFIXES, PERSON_JOINTS, BodyDimensions
+
+ACTIONS = ("rest", "look_at", "point_at", "reach_to")
+PEAK_JOINT_SPEED = 1.5  # rad/s: brisk but human
+MIN_MOVE_TIME = 0.6  # s
+_MIN_JERK_PEAK = 1.875  # peak of d/dtau of the minimum-jerk profile
+
+_INDEX = {name: i for i, name in enumerate(PERSON_JOINTS)}
+_LIMITS = {
+    "neck_yaw": (-1.4, 1.4), "neck_pitch": (-0.8, 1.0),
+    "shoulder_pitch": (-3.1, 1.0), "shoulder_roll": (-1.6, 1.6), "shoulder_yaw": (-1.6, 1.6),
+    "elbow": (-2.6, 0.0), "wrist": (-1.2, 1.2),
+}  # fmt: skip
+
+
+def joint_limits(name: str) -> tuple[float, float]:
+    """Position limits (rad) of a person joint, by its name in PERSON_JOINTS."""
+    return _LIMITS[name.removeprefix("r_").removeprefix("l_")]
+
+
+@dataclasses.dataclass(frozen=True)
+class Action:
+    """A scripted action with its target already in the person frame.
+
+    kind: one of ACTIONS. end: None lasts until the next action. point: the object or point
+    aimed at (person frame), None for rest. arm: "right" or "left".
+    """
+
+    kind: str
+    start: float
+    end: float | None = None
+    point: np.ndarray | None = None
+    arm: str = "right"
+
+
+def rest_posture(body: BodyDimensions) -> np.ndarray:
+    """Head level and a little down; standing, arms hang. Seated, the forearms rest level in
+    front of the body (as on armrests), above table height: every joint-space move from there
+    to a pointing or reaching arm then keeps the hand above the table top rather than sweeping
+    it under the table's edge."""
+    q = np.zeros(len(PERSON_JOINTS))
+    q[_INDEX["neck_pitch"]] = 0.2
+    for prefix, sign in (("r_", -1.0), ("l_", 1.0)):
+        q[_INDEX[prefix + "shoulder_roll"]] = 0.08 * sign
+        q[_INDEX[prefix + "shoulder_pitch"]] = -0.25 if body.seated else 0.0
+        q[_INDEX[prefix + "elbow"]] = -1.5 if body.seated else -0.15
+    return q
+
+
+def aim_head(body: BodyDimensions, point: np.ndarray) -> np.ndarray:
+    """Neck (yaw, pitch) that put the target on the line of sight from between the eyes.
+
+    The eyes sit above and ahead of the neck pivot, so aiming from the pivot misses by several
+    degrees at arm's length; a few fixed-point steps from the eyes' actual position fix that.
+    """
+    pivot = body.neck_pivot()
+    face = body.face_points()
+    eyes = (face["r_eye"] + face["l_eye"]) / 2
+    angles = head_angles(point - pivot)
+    # Contracts by about (eye offset / distance) per step: 12 steps suffice down to 0.2 m.
+    for _ in range(12):
+        eye_position = pivot + _head_rotation(*angles) @ eyes
+        angles = head_angles(point - eye_position)
+    return angles
+
+
+def _head_rotation(yaw: float, pitch: float) -> np.ndarray:
+    cy, sy, cp, sp = np.cos(yaw), np.sin(yaw), np.cos(pitch), np.sin(pitch)
+    return np.array([[cy, -sy, 0], [sy, cy, 0], [0, 0, 1]]) @ np.array(
+        [[cp, 0, sp], [0, 1, 0], [-sp, 0, cp]]
+    )
+
+
+def target_posture(body: BodyDimensions, action: Action) -> np.ndarray:
+    """The whole-body joint target for one action (PERSON_JOINTS order), within joint limits."""
+    q = rest_posture(body)
+    if action.kind != "rest":
+        q[[_INDEX["neck_yaw"], _INDEX["neck_pitch"]]] = aim_head(body, action.point)
+    if action.kind in ("point_at", "reach_to"):
+        prefix = "r_" if action.arm == "right" else "l_"
+        to_target = action.point - body.shoulder(action.arm)
+        if action.kind == "point_at":
+            arm = pointing_arm_angles(to_target)
+        else:
+            arm = reaching_arm_angles(to_target, body)
+        q[[_INDEX[prefix + s] for s in ARM_JOINT_SUFFIXES]] = arm
+    lower, upper = np.array([joint_limits(name) for name in PERSON_JOINTS]).T
+    return np.clip(q, lower, upper)
+
+
+def posture_changes(
+    body: BodyDimensions, actions: Sequence[Action]
+) -> list[tuple[float, np.ndarray]]:
+    """(time, target posture) pairs, in time order: each action's start, and a return to rest
+    where an action ends before the next begins."""
+    ordered = sorted(actions, key=lambda a: a.start)
+    changes = [(0.0, rest_posture(body))]
+    for index, action in enumerate(ordered):
+        changes.append((action.start, target_posture(body, action)))
+        next_start = ordered[index + 1].start if index + 1 < len(ordered) else np.inf
+        if action.end is not None and action.end < next_start:
+            changes.append((action.end, rest_posture(body)))
+    return changes
+
+
+@dataclasses.dataclass(frozen=True)
+class _Move:
+    start: float
+    duration: float
+    origin: np.ndarray
+    goal: np.ndarray
+
+
+class PostureTimeline:
+    """Joint positions and velocities over time for a list of (time, target) changes.
+
+    A move starts at each change from wherever the body is then (mid-move included) and lasts
+    `max(MIN_MOVE_TIME, 1.875 |dq|_max / PEAK_JOINT_SPEED)`, so no joint exceeds the peak speed.
+    """
+
+    def __init__(self, changes: Sequence[tuple[float, np.ndarray]]):
+        if not changes:
+            raise ValueError("changes: expected at least the starting posture")
+        first_time, first = changes[0]
+        self._moves = [_Move(first_time, 0.0, np.asarray(first), np.asarray(first))]
+        self._starts = np.array([first_time])
+        for time, goal in changes[1:]:
+            origin, _ = self.evaluate(time)
+            span = float(np.max(np.abs(np.asarray(goal) - origin)))
+            duration = max(MIN_MOVE_TIME, _MIN_JERK_PEAK * span / PEAK_JOINT_SPEED)
+            self._moves.append(_Move(time, duration, origin, np.asarray(goal, dtype=float)))
+            self._starts = np.append(self._starts, time)
+
+    def evaluate(self, time: float) -> tuple[np.ndarray, np.ndarray]:
+        """Positions and velocities at `time`."""
+        index = max(int(np.searchsorted(self._starts, time, side="right")) - 1, 0)
+        move = self._moves[index]
+        if move.duration <= 0.0 or time >= move.start + move.duration:
+            return move.goal.copy(), np.zeros_like(move.goal)
+        tau = max(time - move.start, 0.0) / move.duration
+        s = tau**3 * (10 - 15 * tau + 6 * tau**2)
+        ds = 30 * tau**2 * (1 - tau) ** 2 / move.duration
+        delta = move.goal - move.origin
+        return move.origin + s * delta, ds * delta

@@ -1,0 +1,172 @@
+"""Scenario files: typed dataclasses loaded with Drake's `yaml_load_typed` (the `Scenario` +
+`load_scenario` pattern of the manipulation course). No `from __future__ import annotations`
+here: Drake's YAML loader reads the field types at run time and needs them as real types.
+
+World frame: z up, the floor at z = 0. Poses are [x, y, yaw] on the floor unless said otherwise.
+Left and right in scenario names are as the *person* sees them.
+"""
+
+import dataclasses
+from dataclasses import field
+from pathlib import Path
+
+import yaml
+from pydrake.common.yaml import yaml_load_typed
+
+from hsr_handover.typed_yaml import SchemaMismatch, check_against_schema
+
+
+class ScenarioError(ValueError):
+    """A scenario file is broken: names the file, the key path and what was expected."""
+
+    def __init__(self, filename: str, key_path: str, expected: str):
+        super().__init__(f"{filename}: {key_path}: {expected}")
+        self.filename = filename
+        self.key_path = key_path
+        self.expected = expected
+
+
+@dataclasses.dataclass
+class RobotConfig:
+    """The HSR: model URL (package:// or a path relative to the scenario file), base pose on the
+    floor [x, y, yaw] and the start posture by joint name. The file's joints are merged over the
+    default posture (the hand tucked forward, the head tilted to see the table and the person);
+    joints named nowhere start at 0."""
+
+    model: str = "package://hsr_handover/hsrb/hsrb.sdf"
+    base_pose: list[float] = field(default_factory=lambda: [0.0, 0.0, 0.0])
+    joints: dict[str, float] = field(
+        default_factory=lambda: {
+            "arm_flex_joint": 0.0,
+            "wrist_flex_joint": -1.57,
+            "head_tilt_joint": -0.1,
+        }
+    )
+
+
+@dataclasses.dataclass
+class TableConfig:
+    """A four-legged table: top centre [x, y] and yaw, top size [depth along its x, width along
+    its y], the height of the top surface and the top's thickness (m)."""
+
+    center: list[float] = field(default_factory=lambda: [0.85, 0.0])
+    yaw: float = 0.0
+    size: list[float] = field(default_factory=lambda: [0.6, 1.0])
+    height: float = 0.72
+    thickness: float = 0.04
+
+
+@dataclasses.dataclass
+class ObjectConfig:
+    """A graspable object resting on the table.
+
+    shape: "cup" (size [diameter, height]) or "box" (size [x, y, z]).
+    position: [x, y] of its centre on the table top, or [x, y, z] of its centre (then checked to
+    rest on the top). color: a name from `OBJECT_COLORS`; colours must be distinct, since the
+    robot tells objects apart by colour.
+    """
+
+    name: str = ""
+    shape: str = "cup"
+    size: list[float] = field(default_factory=lambda: [0.07, 0.10])
+    color: str = "red"
+    position: list[float] = field(default_factory=lambda: [0.8, 0.0])
+    yaw: float = 0.0
+    mass: float = 0.2
+
+
+@dataclasses.dataclass
+class ActionConfig:
+    """One timed action of the person's script.
+
+    action: "look_at" (target), "point_at" (target), "reach_to" (point [x, y, z]) or "rest".
+    start: when it begins (s). duration: how long it lasts (s); by default until the next action
+    starts. The person rests between an action's end and the next one's start.
+    arm: "right" or "left", the arm that points or reaches.
+    """
+
+    action: str = "rest"
+    start: float = 0.0
+    duration: float | None = None
+    target: str = ""
+    point: list[float] = field(default_factory=list)
+    arm: str = "right"
+
+
+@dataclasses.dataclass
+class PersonConfig:
+    """An adult at the table: feet position [x, y] and yaw (facing its +x), height, posture
+    ("seated" or "standing") and the behaviour script."""
+
+    position: list[float] = field(default_factory=lambda: [1.55, 0.0])
+    yaw: float = 3.141592653589793
+    height: float = 1.70
+    posture: str = "seated"
+    behavior: list[ActionConfig] = field(default_factory=list)
+
+
+@dataclasses.dataclass
+class CameraConfig:
+    """The HSR's head RGB-D camera (an Xtion): image size, frame rate, horizontal field of view,
+    the depth range it reports (m), and whether to render the ground-truth label image (for
+    scoring only; the robot never reads it; off saves about a quarter of the camera's time)."""
+
+    width: int = 640
+    height: int = 480
+    rate_hz: float = 30.0
+    fov_x: float = 1.05
+    depth_range: list[float] = field(default_factory=lambda: [0.35, 4.0])
+    render_label: bool = True
+
+
+@dataclasses.dataclass
+class SimulationConfig:
+    """Simulated duration (s), the plant's discrete time step (s), the random seed, and the frame
+    rate of the replay recording."""
+
+    duration: float = 5.0
+    time_step: float = 0.002
+    seed: int = 0
+    replay_fps: float = 20.0
+
+
+@dataclasses.dataclass
+class Scenario:
+    robot: RobotConfig = field(default_factory=RobotConfig)
+    table: TableConfig = field(default_factory=TableConfig)
+    objects: list[ObjectConfig] = field(default_factory=list)
+    person: PersonConfig = field(default_factory=PersonConfig)
+    camera: CameraConfig = field(default_factory=CameraConfig)
+    simulation: SimulationConfig = field(default_factory=SimulationConfig)
+    # Where the scenario came from, for error messages and relative model paths; not in YAML.
+    source: str = "<scenario>"
+
+
+def load_scenario(filename: str | Path) -> Scenario:
+    """Load and check a scenario file. Raises ScenarioError naming the file, key and expectation.
+
+    Checks here need only the file; checks that need the built scene (the person or the robot
+    intersecting the table) run in `station.check_initial_clearance`.
+    """
+    from hsr_handover.scenario_checks import check_scenario
+
+    path = Path(filename)
+    name = str(filename)
+    if not path.is_file():
+        raise ScenarioError(name, "(file)", "expected an existing scenario YAML file")
+    try:
+        raw = yaml.safe_load(path.read_text())
+    except yaml.YAMLError as error:
+        mark = getattr(error, "problem_mark", None)
+        where = f"line {mark.line + 1}" if mark else "(file)"
+        raise ScenarioError(name, where, "expected valid YAML") from None
+    try:
+        check_against_schema(raw if raw is not None else {}, Scenario)
+    except SchemaMismatch as error:
+        raise ScenarioError(name, error.key_path, error.expected) from None
+    if raw is not None and "source" in raw:
+        raise ScenarioError(name, "source", "unknown key; it is set by the loader")
+    scenario = yaml_load_typed(schema=Scenario, filename=str(path), defaults=Scenario())
+    scenario.source = name
+    check_scenario(scenario)
+    return scenario

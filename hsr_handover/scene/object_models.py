@@ -1,0 +1,51 @@
+"""Graspable objects: cups (solid cylinders) and boxes in distinct, saturated colours that the
+robot's colour segmentation can tell apart from the person, the table and the robot."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from hsr_handover.scene.sdf_shapes import (
+    box_geometry,
+    box_inertia,
+    cylinder_geometry,
+    cylinder_inertia,
+    inertial,
+    model,
+    shape,
+)
+
+OBJECT_COLORS: dict[str, tuple[float, float, float]] = {
+    "red": (0.85, 0.08, 0.08),
+    "green": (0.10, 0.70, 0.15),
+    "blue": (0.10, 0.20, 0.85),
+    "yellow": (0.95, 0.85, 0.05),
+    "purple": (0.50, 0.10, 0.70),
+    "cyan": (0.05, 0.75, 0.80),
+    "magenta": (0.90, 0.10, 0.65),
+}
+OBJECT_SHAPES = {"cup": 2, "box": 3}  # shape -> number of size values
+OBJECT_FRICTION = 1.0
+
+
+def object_height(shape_name: str, size: Sequence[float]) -> float:
+    """Height of an upright object: a cup's size is [diameter, height], a box's [x, y, z]."""
+    return size[1] if shape_name == "cup" else size[2]
+
+
+def object_sdf(name: str, shape_name: str, size: Sequence[float], color: str, mass: float) -> str:
+    """SDFormat for a free object with its frame at the centre of its bounding box."""
+    rgba = (*OBJECT_COLORS[color], 1.0)
+    if shape_name == "cup":
+        radius, length = size[0] / 2, size[1]
+        geometry, moments = (
+            cylinder_geometry(radius, length),
+            cylinder_inertia(mass, radius, length),
+        )
+    else:
+        geometry, moments = box_geometry(size), box_inertia(mass, size)
+    link = (
+        f'<link name="{name}">{inertial(mass, moments)}'
+        f"{shape(name, geometry, (0,) * 6, rgba, OBJECT_FRICTION)}</link>"
+    )
+    return model(name, link)

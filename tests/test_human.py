@@ -1,0 +1,105 @@
+"""The person's layer-1 model: aiming the arms and head, and the behaviour timeline."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from hsr_handover.human.aiming import arm_points, pointing_arm_angles, reaching_arm_angles
+from hsr_handover.human.behavior import (
+    MIN_MOVE_TIME,
+    PEAK_JOINT_SPEED,
+    Action,
+    PostureTimeline,
+    _head_rotation,
+    aim_head,
+    posture_changes,
+    rest_posture,
+    target_posture,
+)
+from hsr_handover.human.body import PERSON_JOINTS, BodyDimensions
+
+BODY = BodyDimensions.from_height(1.70, seated=True)
+
+
+def _angle_deg(a: np.ndarray, b: np.ndarray) -> float:
+    cosine = a @ b / (np.linalg.norm(a) * np.linalg.norm(b))
+    return float(np.degrees(np.arccos(np.clip(cosine, -1, 1))))
+
+
+def _targets_in_front(count: int, seed: int) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    return np.column_stack(
+        [rng.uniform(0.3, 1.2, count), rng.uniform(-0.6, 0.6, count), rng.uniform(0.5, 1.3, count)]
+    )
+
+
+@pytest.mark.parametrize("side", ["right", "left"])
+def test_pointing_arm_puts_elbow_and_wrist_on_the_shoulder_to_target_ray(side):
+    for target in _targets_in_front(50, seed=1):
+        to_target = target - BODY.shoulder(side)
+        points = arm_points(BODY, side, pointing_arm_angles(to_target))
+        for joint in ("elbow", "wrist"):
+            assert _angle_deg(points[joint] - BODY.shoulder(side), to_target) < 1e-4
+
+
+def test_reaching_arm_puts_the_hand_on_reachable_targets():
+    reached = 0
+    for target in _targets_in_front(200, seed=2) * [0.6, 1.0, 1.0]:
+        to_target = target - BODY.shoulder("right")
+        hand = arm_points(BODY, "right", reaching_arm_angles(to_target, BODY))["hand"]
+        distance = np.linalg.norm(to_target)
+        if distance < BODY.upper_arm + BODY.forearm + BODY.hand / 2 - 1e-3:
+            assert np.linalg.norm(hand - target) < 1e-3
+            reached += 1
+        else:  # out of reach: the arm points straight at it instead
+            assert _angle_deg(hand - BODY.shoulder("right"), to_target) < 1e-4
+    assert reached > 50  # the sample really exercised the bent-elbow branch
+
+
+def test_head_aims_the_line_of_sight_from_the_eyes_at_the_target():
+    face = BODY.face_points()
+    eyes = (face["r_eye"] + face["l_eye"]) / 2
+    for target in _targets_in_front(30, seed=3):
+        rotation = _head_rotation(*aim_head(BODY, target))
+        eye_position = BODY.neck_pivot() + rotation @ eyes
+        assert _angle_deg(rotation @ [1.0, 0, 0], target - eye_position) < 0.05
+
+
+def test_pointing_posture_aims_arm_and_head_and_leaves_the_other_arm_at_rest():
+    target = np.array([0.9, 0.3, 0.8])
+    posture = target_posture(BODY, Action("point_at", 0.0, None, target, "right"))
+    rest = rest_posture(BODY)
+    left = [PERSON_JOINTS.index(n) for n in PERSON_JOINTS if n.startswith("l_")]
+    np.testing.assert_allclose(posture[left], rest[left])
+    right = [PERSON_JOINTS.index(n) for n in PERSON_JOINTS if n.startswith("r_")]
+    wrist = arm_points(BODY, "right", posture[right])["wrist"]
+    assert _angle_deg(wrist - BODY.shoulder("right"), target - BODY.shoulder("right")) < 1e-4
+    assert not np.allclose(posture[:2], rest[:2])
+
+
+def test_timeline_is_smooth_respects_peak_speed_and_arrives():
+    target = np.array([0.9, -0.3, 0.8])
+    actions = [Action("point_at", 1.0, 3.0, target, "right")]
+    changes = posture_changes(BODY, actions)
+    assert [time for time, _ in changes] == [0.0, 1.0, 3.0]  # rest, point, back to rest
+    timeline = PostureTimeline(changes)
+    times = np.arange(0.0, 5.0, 1e-3)
+    q = np.array([timeline.evaluate(t)[0] for t in times])
+    v = np.array([timeline.evaluate(t)[1] for t in times])
+    assert np.abs(v).max() <= PEAK_JOINT_SPEED * 1.001
+    # Positions continuous, and velocities are their derivative.
+    assert np.abs(np.diff(q, axis=0)).max() <= PEAK_JOINT_SPEED * 1e-3 * 1.01
+    np.testing.assert_allclose(np.gradient(q, times, axis=0)[1:-1], v[1:-1], atol=2e-3)
+    np.testing.assert_allclose(timeline.evaluate(2.9)[0], changes[1][1], atol=1e-12)
+    np.testing.assert_allclose(timeline.evaluate(4.9)[0], rest_posture(BODY), atol=1e-12)
+
+
+def test_timeline_interrupted_move_starts_where_the_body_is():
+    far = np.array([0.5, -0.5, 1.3])
+    actions = [Action("point_at", 1.0, None, far, "right"), Action("rest", 1.2)]
+    timeline = PostureTimeline(posture_changes(BODY, actions))
+    before, _ = timeline.evaluate(1.2 - 1e-9)
+    after, _ = timeline.evaluate(1.2 + 1e-9)
+    np.testing.assert_allclose(before, after, atol=1e-6)
+    assert timeline.evaluate(1.2 + MIN_MOVE_TIME + 2.0)[0] == pytest.approx(rest_posture(BODY))
