@@ -9,6 +9,7 @@ from pathlib import Path
 
 from pydrake.common import RandomGenerator
 from pydrake.systems.analysis import Simulator
+from pydrake.systems.framework import Context
 
 from hsr_handover.replay import make_local_meshcat, start_recording, write_replay
 from hsr_handover.scenario import Scenario
@@ -19,11 +20,14 @@ ProgressCallback = Callable[[float, float], None]
 
 @dataclasses.dataclass
 class RunReport:
-    """What a run measured: simulated and wall-clock seconds, their ratio, the replay file."""
+    """What a run measured: simulated and wall-clock seconds, their ratio, the replay file;
+    and the station with the final context, for scoring against ground truth."""
 
     sim_time: float
     wall_time: float
     replay: Path | None
+    station: Station
+    context: Context
 
     @property
     def real_time_factor(self) -> float:
@@ -63,4 +67,4 @@ def run_scenario(
             progress(now, duration)
     wall = time.perf_counter() - start
     written = write_replay(meshcat, replay) if meshcat is not None else None
-    return RunReport(sim_time=now, wall_time=wall, replay=written)
+    return RunReport(now, wall, written, station, simulator.get_context())

@@ -11,7 +11,7 @@ from hsr_handover.camera import camera_info
 from hsr_handover.hsr import PALM_FRAME
 from hsr_handover.scenario import load_scenario
 from hsr_handover.scenario_checks import object_center
-from hsr_handover.station import build_station
+from hsr_handover.station import build_station, check_initial_clearance
 from tests.conftest import SCENARIOS
 
 EXPORTED = (
@@ -144,3 +144,21 @@ def test_robot_holds_posture_and_objects_rest(pointing_run):
         body = station.plant.GetBodyByName(obj.name)
         position = body.EvalPoseInWorld(plant_context).translation()
         assert np.linalg.norm(position - object_center(station.scenario, obj)) < 3e-3
+
+
+def test_standing_person_has_adult_proportions_and_clears_the_table(write_scenario):
+    def stand_tall(data):
+        data["person"].update(posture="standing", height=1.85)
+
+    scenario = load_scenario(write_scenario(stand_tall))
+    station = build_station(scenario)
+    check_initial_clearance(station)
+    context = station.diagram.CreateDefaultContext()
+    # Winter's ratios of height; the head is tilted at rest, so check the rigid trunk and legs.
+    for frame, ratio in (
+        ("coco_r_shoulder", 0.818),
+        ("coco_r_knee", 0.285),
+        ("coco_r_ankle", 0.039),
+    ):
+        height = _frame_position(station, context, frame)[2]
+        assert height == pytest.approx(ratio * 1.85, abs=0.01), frame
