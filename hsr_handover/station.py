@@ -29,7 +29,14 @@ from pydrake.systems.framework import Diagram, DiagramBuilder
 from pydrake.systems.primitives import ConstantVectorSource
 
 from hsr_handover.camera import add_head_camera
-from hsr_handover.hsr import BASE_JOINTS, TORSO_JOINT, add_hsr, hsr_desired_state
+from hsr_handover.hsr import (
+    BASE_JOINTS,
+    GRIPPER_JOINT,
+    GRIPPER_MIMIC_JOINT,
+    TORSO_JOINT,
+    add_hsr,
+    hsr_desired_state,
+)
 from hsr_handover.human.behavior import Action, PostureTimeline, posture_changes
 from hsr_handover.human.body import PERSON_JOINTS, BodyDimensions
 from hsr_handover.scenario import Scenario, ScenarioError
@@ -64,9 +71,27 @@ def person_pose(scenario: Scenario) -> RigidTransform:
 
 
 def robot_start_positions(scenario: Scenario) -> dict[str, float]:
-    """The robot's start configuration by joint name: base pose plus the scenario's posture."""
+    """The robot's start configuration by actuated joint name: base pose plus the posture."""
+    for name in scenario.robot.joints:
+        if name in BASE_JOINTS:
+            expected = "the base pose under robot.base_pose, not as a joint"
+        elif name in (TORSO_JOINT, GRIPPER_MIMIC_JOINT):
+            expected = "an actuated joint; this one follows its partner by mimic"
+        else:
+            continue
+        raise ScenarioError(scenario.source, f"robot.joints.{name}", f"expected {expected}")
     x, y, yaw = scenario.robot.base_pose
     return {**dict(zip(BASE_JOINTS, (x, y, yaw), strict=True)), **scenario.robot.joints}
+
+
+def _couple_default_positions(
+    plant: MultibodyPlant, robot: ModelInstanceIndex, start: dict[str, float]
+) -> None:
+    """Start coupled joints consistent, or the mimic constraints snap them on the first step."""
+    lift = start.get("arm_lift_joint", 0.0)
+    plant.GetJointByName(TORSO_JOINT, robot).set_default_positions([0.5 * lift])
+    finger = start.get(GRIPPER_JOINT, 0.0)
+    plant.GetJointByName(GRIPPER_MIMIC_JOINT, robot).set_default_positions([finger])
 
 
 def person_actions(scenario: Scenario) -> list[Action]:
@@ -160,9 +185,7 @@ def build_station(scenario: Scenario, meshcat: Meshcat | None = None) -> Station
     table, person, objects = _add_world(plant, parser, scenario, body)
     start = robot_start_positions(scenario)
     _set_default_positions(plant, robot, start, "robot.joints", scenario.source)
-    # Coupled joints start consistent, or the mimic constraint snaps them on the first step.
-    lift = start.get("arm_lift_joint", 0.0)
-    plant.GetJointByName(TORSO_JOINT, robot).set_default_positions([0.5 * lift])
+    _couple_default_positions(plant, robot, start)
     timeline = PostureTimeline(posture_changes(body, person_actions(scenario)))
     rest, _ = timeline.evaluate(0.0)
     _set_default_positions(
@@ -183,9 +206,9 @@ def build_station(scenario: Scenario, meshcat: Meshcat | None = None) -> Station
 
     scene_graph.AddRenderer(RENDERER, MakeRenderEngineVtk(render_params()))
     camera = add_head_camera(builder, plant, scene_graph, robot, scenario.camera, RENDERER)
-    for name in ("color_image", "depth_image", "label_image", "pose"):
-        port = camera.GetOutputPort(name if name != "pose" else "camera_pose")
-        builder.ExportOutput(port, f"camera_{name}")
+    for name in ("color_image", "depth_image", "label_image"):
+        builder.ExportOutput(camera.GetOutputPort(name), f"camera_{name}")
+    builder.ExportOutput(camera.GetOutputPort("camera_pose"), "camera_pose")
     builder.ExportOutput(plant.get_state_output_port(robot), "robot_state")
     builder.ExportOutput(plant.get_state_output_port(person), "person_state")
     builder.ExportOutput(scene_graph.get_query_output_port(), "query_object")

@@ -96,6 +96,11 @@ BROKEN = {
         "robot.joints.elbow_joint",
         "joint name",
     ),
+    "coupled robot joint": (
+        _set("robot.joints", {"torso_lift_joint": 0.1}),
+        "robot.joints.torso_lift_joint",
+        "follows its partner by mimic",
+    ),
     "robot joint beyond limit": (
         _set("robot.joints", {"arm_lift_joint": 0.9}),
         "robot.joints.arm_lift_joint",
