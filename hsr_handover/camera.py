@@ -19,6 +19,7 @@ from pydrake.systems.framework import DiagramBuilder
 from pydrake.systems.sensors import CameraInfo
 
 from hsr_handover.hsr import CAMERA_FRAME
+from hsr_handover.perception.pinhole import PinholeCamera
 from hsr_handover.scenario import CameraConfig
 from hsr_handover.systems.head_camera import HeadCamera
 
@@ -26,6 +27,11 @@ from hsr_handover.systems.head_camera import HeadCamera
 def camera_fov_y(width: int, height: int, fov_x: float) -> float:
     """Vertical field of view of a pinhole camera with square pixels."""
     return 2.0 * math.atan(math.tan(fov_x / 2.0) * height / width)
+
+
+def pinhole_camera(config: CameraConfig) -> PinholeCamera:
+    """The same intrinsics as `camera_info`, as the numpy model perception uses."""
+    return PinholeCamera.from_fov_x(config.width, config.height, config.fov_x)
 
 
 def camera_info(config: CameraConfig) -> CameraInfo:

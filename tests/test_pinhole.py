@@ -1,0 +1,65 @@
+"""Pinhole geometry agrees with Drake's camera model and inverts itself."""
+
+from __future__ import annotations
+
+import numpy as np
+from pydrake.math import RigidTransform, RollPitchYaw
+
+from hsr_handover.camera import camera_info, pinhole_camera
+from hsr_handover.perception.pinhole import PinholeCamera
+from hsr_handover.scenario import CameraConfig
+
+
+def _pose() -> np.ndarray:
+    return RigidTransform(RollPitchYaw(-1.7, 0.1, -1.5), [0.1, -0.2, 1.0]).GetAsMatrix4()
+
+
+def test_intrinsics_match_drakes_camera_info():
+    config = CameraConfig(width=640, height=480, fov_x=1.05)
+    ours, drakes = pinhole_camera(config), camera_info(config)
+    for mine, theirs in (
+        (ours.fx, drakes.focal_x()),
+        (ours.fy, drakes.focal_y()),
+        (ours.cx, drakes.center_x()),
+        (ours.cy, drakes.center_y()),
+    ):
+        assert abs(mine - theirs) < 1e-9
+
+
+def test_project_then_deproject_returns_the_points():
+    camera = PinholeCamera.from_fov_x(640, 480, 1.05)
+    rng = np.random.default_rng(0)
+    X_WC = _pose()
+    points_C = np.column_stack(
+        [rng.uniform(-0.5, 0.5, 100), rng.uniform(-0.4, 0.4, 100), rng.uniform(0.5, 3.0, 100)]
+    )
+    points_W = points_C @ X_WC[:3, :3].T + X_WC[:3, 3]
+    pixels, depth = camera.project(points_W, X_WC)
+    np.testing.assert_allclose(depth, points_C[:, 2])
+    np.testing.assert_allclose(camera.deproject(pixels, depth, X_WC), points_W, atol=1e-12)
+
+
+def test_deproject_image_keeps_pixel_order_and_marks_missing_depth():
+    camera = PinholeCamera.from_fov_x(8, 6, 1.0)
+    depth = np.full((6, 8), 2.0)
+    depth[1, 3] = np.nan
+    depth[4, 5] = np.inf
+    points = camera.deproject_image(depth, np.eye(4))
+    assert points.shape == (48, 3)
+    assert np.isnan(points[1 * 8 + 3]).all() and np.isnan(points[4 * 8 + 5]).all()
+    assert np.isfinite(points).all(axis=1).sum() == 46
+    pixel = camera.project(points[2 * 8 + 6][None], np.eye(4))[0][0]
+    np.testing.assert_allclose(pixel, [6, 2])
+
+
+def test_scaled_camera_sees_the_same_ray():
+    camera = PinholeCamera.from_fov_x(640, 480, 1.05)
+    small = camera.scaled(200, 200)
+    point = np.array([[0.3, -0.1, 1.7]])
+    (u, v), _ = camera.project(point, np.eye(4))[0][0], None
+    (us, vs) = small.project(point, np.eye(4))[0][0]
+    np.testing.assert_allclose(
+        [(us + 0.5) / 200, (vs + 0.5) / 200], [(u + 0.5) / 640, (v + 0.5) / 480]
+    )
+    assert camera.contains(np.array([[-0.4, 0.0], [639.4, 479.4]])).all()
+    assert not camera.contains(np.array([[-0.6, 0.0], [0.0, 479.6]])).any()
