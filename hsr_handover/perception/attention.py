@@ -1,0 +1,123 @@
+"""Attention: regions of the scene the robot attends to, and the sampling weights they give.
+
+The paper (§3.1, end; figs. 9-12) lets the robot's attention move from the person's face to the
+hand to an object; points inside the attended region are sampled more often, so the Growing
+Neural Gas puts more nodes there. Regions are built from what the robot perceives (skeleton
+keypoints, object detections), never from the simulator's state.
+
+Node density on a surface grows roughly with the square root of sampling density, so a gain
+of 16 gives about 4x the nodes (DESIGN §3.1).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Sequence
+
+import numpy as np
+
+FACE_KEYPOINTS = (0, 14, 15, 16, 17)  # nose, eyes, ears (COCO-18)
+NECK, RIGHT_WRIST, LEFT_WRIST = 1, 4, 7
+FACE_RADIUS = 0.15
+HAND_RADIUS = 0.15
+OBJECT_RADIUS = 0.10
+DEFAULT_GAIN = 16.0
+
+
+@dataclasses.dataclass(frozen=True)
+class AttentionRegion:
+    """A ball in the world: `name` is "face", "hand" or "object:<label>"."""
+
+    name: str
+    center: np.ndarray
+    radius: float
+
+    def contains(self, points: np.ndarray) -> np.ndarray:
+        """Which points (N, 3) lie inside; NaN points never do."""
+        offsets = np.asarray(points, dtype=float) - self.center
+        with np.errstate(invalid="ignore"):
+            return np.einsum("ij,ij->i", offsets, offsets) <= self.radius**2
+
+
+def face_region(points: np.ndarray, confidence: np.ndarray) -> AttentionRegion | None:
+    """The face from the visible face keypoints (18 x 3 lifted skeleton), or None."""
+    face = [i for i in FACE_KEYPOINTS if confidence[i] > 0 and np.isfinite(points[i]).all()]
+    if not face:
+        return None
+    return AttentionRegion("face", points[face].mean(axis=0), FACE_RADIUS)
+
+
+def hand_region(points: np.ndarray, confidence: np.ndarray) -> AttentionRegion | None:
+    """The active hand: of the visible wrists, the one farther from the neck (a raised or
+    pointing hand is away from the body); None when no wrist is visible."""
+    wrists = [i for i in (RIGHT_WRIST, LEFT_WRIST)
+              if confidence[i] > 0 and np.isfinite(points[i]).all()]  # fmt: skip
+    if not wrists:
+        return None
+    neck_visible = confidence[NECK] > 0 and np.isfinite(points[NECK]).all()
+    if neck_visible and len(wrists) == 2:
+        wrists.sort(key=lambda i: -np.linalg.norm(points[i] - points[NECK]))
+    return AttentionRegion("hand", points[wrists[0]], HAND_RADIUS)
+
+
+def object_region(label: str, center: np.ndarray) -> AttentionRegion | None:
+    """An object from a detection's 3-D centre, or None when the centre is unknown."""
+    if not np.isfinite(center).all():
+        return None
+    return AttentionRegion(f"object:{label}", np.asarray(center, dtype=float), OBJECT_RADIUS)
+
+
+def attention_weights(
+    points: np.ndarray, regions: Sequence[AttentionRegion], gain: float = DEFAULT_GAIN
+) -> np.ndarray:
+    """Sampling weight per point (N,): `gain` inside any attended region, 1 elsewhere."""
+    weights = np.ones(len(points))
+    for region in regions:
+        weights[region.contains(points)] = gain
+    return weights
+
+
+FOCUS_KINDS = ("none", "face", "hand", "object")
+
+
+@dataclasses.dataclass(frozen=True)
+class FocusChange:
+    """From `start` (s) on, attend to `focus` (one of FOCUS_KINDS); for "object", `target` is
+    the detection label (the object's colour) to attend to."""
+
+    start: float
+    focus: str
+    target: str = ""
+
+
+def focus_at(schedule: Sequence[FocusChange], time: float) -> FocusChange | None:
+    """The focus in force at `time` (the latest change that has started), or None."""
+    current = None
+    for change in schedule:
+        if change.start <= time:
+            current = change
+    return current
+
+
+def attended_regions(
+    focus: FocusChange | None,
+    skeleton_points: np.ndarray | None,
+    skeleton_confidence: np.ndarray | None,
+    detections: Sequence[tuple[str, np.ndarray]],
+) -> tuple[AttentionRegion, ...]:
+    """The region the focus names, found in what the robot perceives right now: the face or the
+    hand from the lifted skeleton (18 x 3 points, 18 confidences; None when there is no
+    skeleton), an object from the detections as (label, centre) pairs. Empty when the focus is
+    "none" or its region is not perceived (e.g. the face turned away)."""
+    if focus is None or focus.focus == "none":
+        return ()
+    if focus.focus in ("face", "hand") and skeleton_points is None:
+        return ()
+    if focus.focus == "face":
+        region = face_region(skeleton_points, skeleton_confidence)
+    elif focus.focus == "hand":
+        region = hand_region(skeleton_points, skeleton_confidence)
+    else:
+        centers = [center for label, center in detections if label == focus.target]
+        region = object_region(focus.target, centers[0]) if centers else None
+    return () if region is None else (region,)

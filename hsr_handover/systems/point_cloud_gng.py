@@ -1,0 +1,71 @@
+"""PointCloudGng: the robot's topological map of the scene, learnt from the head camera."""
+
+from __future__ import annotations
+
+from pydrake.common.value import AbstractValue
+from pydrake.perception import PointCloud
+from pydrake.systems.framework import BasicVector, Context, LeafSystem, State
+
+from hsr_handover.perception.cloud_map import (
+    FrameReport,
+    GraphSnapshot,
+    Workspace,
+    learn_frame,
+)
+from hsr_handover.topology.growing_neural_gas import GrowingNeuralGas
+
+STATS = ("node_count", "mean_node_error", "quantisation_error", "point_count")
+
+
+class PointCloudGng(LeafSystem):
+    """Adaptive Growing Neural Gas over world-frame point clouds, updated every `period` s.
+
+    Inputs: `point_cloud` (PointCloud in the world frame, e.g. from DepthImageToPointCloud) and
+    `attention` (a tuple of AttentionRegion; optional, unconnected means no attention).
+    Outputs: `graph` (GraphSnapshot), `frame_report` (FrameReport: what the last frame did, or
+    why it did nothing) and `stats` (vector: node count, mean node error, quantisation error
+    of the frame in m, point count).
+
+    The update reads the inputs as they were just before its tick; when the camera ticks at the
+    same instant, the map learns from the previous frame (one frame of latency).
+    """
+
+    def __init__(
+        self,
+        gng_params: dict,
+        workspace: Workspace,
+        period: float,
+        n_signals: int = 5000,
+        gain: float = 16.0,
+        seed: int = 0,
+    ):
+        super().__init__()
+        self._workspace, self._n_signals, self._gain = workspace, n_signals, gain
+        self._cloud = self.DeclareAbstractInputPort("point_cloud", AbstractValue.Make(PointCloud()))
+        self._attention = self.DeclareAbstractInputPort("attention", AbstractValue.Make(()))
+        learner = GrowingNeuralGas(**gng_params, random_state=seed)
+        self._learner = self.DeclareAbstractState(AbstractValue.Make(learner))
+        self._graph = self.DeclareAbstractState(AbstractValue.Make(GraphSnapshot.empty()))
+        empty = FrameReport(0, 0, float("nan"), float("nan"), "no frame yet")
+        self._report = self.DeclareAbstractState(AbstractValue.Make(empty))
+        self.DeclareStateOutputPort("graph", self._graph)
+        self.DeclareStateOutputPort("frame_report", self._report)
+        self.DeclareVectorOutputPort("stats", len(STATS), self._calc_stats)
+        self.DeclarePeriodicUnrestrictedUpdateEvent(period, 0.0, self._learn)
+
+    def _learn(self, context: Context, state: State) -> None:
+        learner: GrowingNeuralGas = state.get_mutable_abstract_state(self._learner).get_value()
+        cloud: PointCloud = self._cloud.Eval(context)
+        regions = self._attention.Eval(context) if self._attention.HasValue(context) else ()
+        report = learn_frame(
+            learner, cloud.xyzs().T, self._workspace, regions, self._n_signals, self._gain
+        )
+        state.get_mutable_abstract_state(self._report).set_value(report)
+        graph = GraphSnapshot.of(learner, context.get_time())
+        state.get_mutable_abstract_state(self._graph).set_value(graph)
+
+    def _calc_stats(self, context: Context, output: BasicVector) -> None:
+        report: FrameReport = context.get_abstract_state(self._report).get_value()
+        output.SetFromVector(
+            [report.n_nodes, report.mean_node_error, report.quantisation_error, report.n_points]
+        )
