@@ -2,15 +2,30 @@
 
 from __future__ import annotations
 
+import base64
 import copy
+import re
 from collections.abc import Callable
 from pathlib import Path
 
+import msgpack
 import pytest
 import yaml
 
 REPO = Path(__file__).resolve().parents[1]
 SCENARIOS = REPO / "scenarios"
+
+
+_BLOB = re.compile(rb"data:application/octet-binary;base64,([A-Za-z0-9+/=]+)")
+
+
+def meshcat_commands(html: str | bytes) -> list[dict]:
+    """The Meshcat commands a static HTML replay holds (base64 msgpack blobs), decoded."""
+    html = html.encode() if isinstance(html, str) else html
+    return [
+        msgpack.unpackb(base64.b64decode(blob), raw=False, strict_map_key=False)
+        for blob in _BLOB.findall(html)
+    ]
 
 
 def bundled_scenarios() -> list[Path]:

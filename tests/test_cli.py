@@ -2,18 +2,10 @@
 
 from __future__ import annotations
 
-import base64
-import re
 import subprocess
 import sys
 
-from tests.conftest import SCENARIOS
-
-_BLOB = re.compile(rb"data:application/octet-binary;base64,([A-Za-z0-9+/=]+)")
-
-
-def _meshcat_commands(html: bytes) -> list[bytes]:
-    return [base64.b64decode(blob) for blob in _BLOB.findall(html)]
+from tests.conftest import SCENARIOS, meshcat_commands
 
 
 def test_run_writes_a_replay_holding_the_recording(tmp_path):
@@ -41,13 +33,11 @@ def test_run_writes_a_replay_holding_the_recording(tmp_path):
     for label in ("sim time:", "wall time:", "real-time factor:", f"replay:      {replay}"):
         assert label in result.stdout
     assert "0.30 / 0.30 s simulated" in result.stderr  # the progress bar reached the end
-    commands = _meshcat_commands(replay.read_bytes())
-    animations = [c for c in commands if b"set_animation" in c]
-    assert len(animations) == 1
-    for path in (
-        b"/drake/visualizer/red_cup",
-        b"/drake/visualizer/person",
-        b"/drake/visualizer/hsrb",
-    ):
-        assert path in animations[0]
+    commands = meshcat_commands(replay.read_bytes())
+    (animation,) = [c for c in commands if c.get("type") == "set_animation"]
+    animated = {entry["path"] for entry in animation["animations"]}
+    for model in ("red_cup", "person", "hsrb", "table"):
+        assert any(path.startswith(f"/drake/visualizer/{model}/") for path in animated), model
+    clip = animation["animations"][0]["clip"]
+    assert clip["fps"] == 20 and max(key["time"] for key in clip["tracks"][0]["keys"]) >= 5
     assert not list(tmp_path.glob(".*.tmp"))  # no temporary left behind
