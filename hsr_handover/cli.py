@@ -35,19 +35,36 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--seed", type=int, help="random seed (overrides the file)")
     validate = commands.add_parser("validate", help="check a scenario without simulating it")
     validate.add_argument("scenario", type=Path, help="scenario YAML file")
+    attention = commands.add_parser(
+        "attention", help="run the attention experiment (paper figs. 9-12) on a scenario"
+    )
+    attention.add_argument("scenario", type=Path, help="scenario YAML with perception.attention")
+    attention.add_argument("--plot", type=Path, help="figure to write (.png)")
+    attention.add_argument("--csv", type=Path, help="time series to write (.csv)")
+    attention.add_argument("--json", type=Path, help="summary to write (.json)")
+    attention.add_argument("--html", type=Path, help="replay to write (.html)")
+    attention.add_argument("--duration", type=float, help="simulated seconds (overrides the file)")
+    attention.add_argument("--seed", type=int, help="random seed (overrides the file)")
     return parser
 
 
-def _replay_path(args: argparse.Namespace) -> Path:
-    path = args.html if args.html is not None else Path(args.scenario.stem + ".html")
-    if path.suffix.lower() != ".html":
-        raise UsageError(f"--html: expected a path ending in .html, got {str(path)!r}")
+def _output_path(path: Path | None, option: str, suffix: str) -> Path | None:
+    """Check an output path before anything runs, so a bad one costs no simulation."""
+    if path is None:
+        return None
+    if path.suffix.lower() != suffix:
+        raise UsageError(f"{option}: expected a path ending in {suffix}, got {str(path)!r}")
     directory = path.parent if str(path.parent) else Path(".")
     if not directory.is_dir():
-        raise UsageError(f"--html: expected an existing directory, {str(directory)!r} is not one")
+        raise UsageError(f"{option}: expected an existing directory, {str(directory)!r} is not one")
     if not os.access(directory, os.W_OK):
-        raise UsageError(f"--html: expected a writable directory, {str(directory)!r} is not")
+        raise UsageError(f"{option}: expected a writable directory, {str(directory)!r} is not")
     return path
+
+
+def _replay_path(args: argparse.Namespace) -> Path:
+    default = Path(args.scenario.stem + ".html")
+    return _output_path(args.html if args.html is not None else default, "--html", ".html")
 
 
 def _apply_overrides(scenario, args: argparse.Namespace) -> None:
@@ -115,11 +132,48 @@ def _validate(args: argparse.Namespace) -> int:
     return 0
 
 
+def _attention(args: argparse.Namespace) -> int:
+    from hsr_handover.experiments.attention import run_attention
+    from hsr_handover.experiments.attention_report import plot, write_csv, write_json
+    from hsr_handover.scenario import load_scenario
+
+    scenario = load_scenario(args.scenario)
+    _apply_overrides(scenario, args)
+    if not scenario.perception.attention:
+        raise UsageError(f"{args.scenario}: perception.attention: expected a focus schedule")
+    outputs = {
+        "plot": _output_path(args.plot, "--plot", ".png"),
+        "csv": _output_path(args.csv, "--csv", ".csv"),
+        "json": _output_path(args.json, "--json", ".json"),
+    }
+    replay = _output_path(args.html, "--html", ".html")
+    result, report = run_attention(scenario, replay=replay, progress=_ProgressBar())
+    writers = {"plot": plot, "csv": write_csv, "json": write_json}
+    for name, path in outputs.items():
+        if path is not None:
+            writers[name](result, path)
+    print(f"density ratio (attended human region / rest): {result.density_ratio:.2f}")
+    print(f"node count settles after a shift (slowest):   {result.settle_time_s:.2f} s")
+    print(f"attended region settles (slowest):            {result.region_settle_time_s:.2f} s")
+    for phase in result.phases:
+        print(
+            f"  {phase.focus:6s} {phase.target:10s} from {phase.start:4.1f} s: "
+            f"{phase.node_count:3d} nodes, attended ratio {phase.attended_ratio:5.2f} "
+            f"(gain {phase.attention_gain:4.2f}), count settled in {phase.settle_time_s:.2f} s, "
+            f"region in {phase.region_settle_time_s:.2f} s"
+        )
+    print(f"wall time {report.wall_time:.1f} s, real-time factor {report.real_time_factor:.2f}")
+    for path in (*outputs.values(), replay):
+        if path is not None:
+            print(f"wrote {path}")
+    return 0
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     from hsr_handover.scenario import ScenarioError
 
-    handlers = {"run": _run, "validate": _validate}
+    handlers = {"run": _run, "validate": _validate, "attention": _attention}
     try:
         return handlers[args.command](args)
     except (ScenarioError, UsageError) as error:
@@ -135,6 +189,15 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_FAILED
     except KeyboardInterrupt:
         print("error: interrupted; no replay written", file=sys.stderr)
+        return EXIT_FAILED
+    except Exception as error:  # a bug, not bad input: still one line, with a way to see more
+        if args.debug:
+            raise
+        print(
+            f"error: internal error ({type(error).__name__}: {error}); run with --debug "
+            "for the traceback",
+            file=sys.stderr,
+        )
         return EXIT_FAILED
 
 

@@ -13,6 +13,7 @@ from pathlib import Path
 import yaml
 from pydrake.common.yaml import yaml_load_typed
 
+from hsr_handover.perception.cloud_map import SCENE_GNG_PARAMS
 from hsr_handover.typed_yaml import SchemaMismatch, check_against_schema
 
 
@@ -120,6 +121,52 @@ class CameraConfig:
 
 
 @dataclasses.dataclass
+class GngConfig:
+    """The scene map's adaptive Growing Neural Gas (paper §3.1 names; DESIGN §3.1). The defaults
+    are the adaptive settings that reach the paper's ~4x node density under attention."""
+
+    max_nodes: int = SCENE_GNG_PARAMS["max_nodes"]
+    lam: int = SCENE_GNG_PARAMS["lam"]
+    mu1: float = SCENE_GNG_PARAMS["mu1"]
+    mu2: float = SCENE_GNG_PARAMS["mu2"]
+    mu3: float = SCENE_GNG_PARAMS["mu3"]
+    a_max: int = SCENE_GNG_PARAMS["a_max"]
+    alpha: float = SCENE_GNG_PARAMS["alpha"]
+    beta: float = SCENE_GNG_PARAMS["beta"]
+    e_min: float = SCENE_GNG_PARAMS["e_min"]
+
+
+@dataclasses.dataclass
+class FocusConfig:
+    """From `start` (s), attend to `focus`: "face", "hand", "object" (then `target` names the
+    object) or "none"."""
+
+    start: float = 0.0
+    focus: str = "none"
+    target: str = ""
+
+
+@dataclasses.dataclass
+class PerceptionConfig:
+    """The robot's perception, off unless `enabled`: the head camera's depth is downsampled to
+    `cloud_size` [width, height] (the paper's 200 x 200), lifted to a world point cloud, cropped
+    to `workspace` [x, y, z lower, x, y, z upper] (m) and learnt by the scene GNG with
+    `signals_per_frame` signals per camera frame; attended regions are sampled `attention_gain`
+    times more often. The skeleton sensor adds `pixel_sigma` pixels of noise and drops each
+    face keypoint with `face_drop_probability`."""
+
+    enabled: bool = False
+    cloud_size: list[int] = field(default_factory=lambda: [200, 200])
+    workspace: list[float] = field(default_factory=lambda: [0.3, -1.0, 0.05, 2.4, 1.0, 2.0])
+    signals_per_frame: int = 5000
+    attention_gain: float = 16.0
+    attention: list[FocusConfig] = field(default_factory=list)
+    gng: GngConfig = field(default_factory=GngConfig)
+    pixel_sigma: float = 2.0
+    face_drop_probability: float = 0.1
+
+
+@dataclasses.dataclass
 class SimulationConfig:
     """Simulated duration (s), the plant's discrete time step (s), the random seed, and the frame
     rate of the replay recording."""
@@ -137,6 +184,7 @@ class Scenario:
     objects: list[ObjectConfig] = field(default_factory=list)
     person: PersonConfig = field(default_factory=PersonConfig)
     camera: CameraConfig = field(default_factory=CameraConfig)
+    perception: PerceptionConfig = field(default_factory=PerceptionConfig)
     simulation: SimulationConfig = field(default_factory=SimulationConfig)
     # Where the scenario came from, for error messages and relative model paths; not in YAML.
     source: str = "<scenario>"

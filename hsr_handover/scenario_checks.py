@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from hsr_handover.human.behavior import ACTIONS
+from hsr_handover.perception.attention import FOCUS_KINDS
 from hsr_handover.scenario import ObjectConfig, Scenario, ScenarioError
 from hsr_handover.scene.object_models import OBJECT_COLORS, OBJECT_SHAPES, object_height
 
@@ -29,6 +30,7 @@ def check_scenario(scenario: Scenario) -> None:
     _check_table(scenario, fail)
     _check_objects(scenario, fail)
     _check_person(scenario, fail)
+    _check_perception(scenario, fail)
     if resolve_model_path(scenario.robot.model, scenario.source) is None:
         fail("robot.model", f"expected an existing model file, got {scenario.robot.model!r}")
     if len(scenario.robot.base_pose) != 3:
@@ -209,3 +211,34 @@ def _check_person(scenario: Scenario, fail) -> None:
             )
         if action.action == "reach_to" and len(action.point) != 3:
             fail(f"{key}.point", f"expected [x, y, z] for reach_to, got {action.point}")
+
+
+def _check_perception(scenario: Scenario, fail) -> None:
+    perception = scenario.perception
+    size = perception.cloud_size
+    if len(size) != 2 or min(size) <= 0:
+        fail("perception.cloud_size", f"expected [width, height], both positive, got {size}")
+    box = perception.workspace
+    if len(box) != 6 or not all(lo < hi for lo, hi in zip(box[:3], box[3:], strict=True)):
+        fail("perception.workspace", f"expected [x, y, z lower, x, y, z upper], got {box}")
+    _positive(fail, "perception.signals_per_frame", perception.signals_per_frame)
+    if not perception.attention_gain >= 1:
+        fail("perception.attention_gain", f"expected a gain >= 1, got {perception.attention_gain}")
+    if not 0 <= perception.face_drop_probability <= 1:
+        fail("perception.face_drop_probability", "expected a probability in [0, 1]")
+    if not perception.pixel_sigma >= 0:
+        fail("perception.pixel_sigma", f"expected sigma >= 0, got {perception.pixel_sigma}")
+    names = {obj.name for obj in scenario.objects}
+    previous_start = 0.0
+    for index, change in enumerate(perception.attention):
+        key = f"perception.attention[{index}]"
+        if change.focus not in FOCUS_KINDS:
+            fail(f"{key}.focus", f"expected one of {list(FOCUS_KINDS)}, got {change.focus!r}")
+        if not change.start >= previous_start:
+            fail(f"{key}.start", f"expected a time >= {previous_start} s (changes in time order)")
+        previous_start = change.start
+        if change.focus == "object" and change.target not in names:
+            fail(
+                f"{key}.target",
+                f"expected one of the objects {sorted(names)}, got {change.target!r}",
+            )

@@ -9,7 +9,7 @@ from pathlib import Path
 
 from pydrake.common import RandomGenerator
 from pydrake.systems.analysis import Simulator
-from pydrake.systems.framework import Context
+from pydrake.systems.framework import Context, EventStatus
 
 from hsr_handover.replay import make_local_meshcat, start_recording, write_replay
 from hsr_handover.scenario import Scenario
@@ -46,10 +46,15 @@ def run_scenario(
     scenario: Scenario,
     replay: Path | None = None,
     progress: ProgressCallback | None = None,
+    monitor_factory: Callable[[Station], Callable[[Context], EventStatus]] | None = None,
 ) -> RunReport:
-    """Simulate `scenario.simulation.duration` seconds; write the replay HTML when asked."""
+    """Simulate `scenario.simulation.duration` seconds; write the replay HTML when asked.
+    `monitor_factory(station)` gives a function the simulator calls after every step (an
+    experiment's recorder)."""
     station, meshcat = prepare_station(scenario, with_meshcat=replay is not None)
     simulator = Simulator(station.diagram)
+    if monitor_factory is not None:
+        simulator.set_monitor(monitor_factory(station))
     station.diagram.SetRandomContext(
         simulator.get_mutable_context(), RandomGenerator(scenario.simulation.seed)
     )

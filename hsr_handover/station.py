@@ -173,7 +173,8 @@ def render_params() -> RenderEngineVtkParams:
 def build_station(scenario: Scenario, meshcat: Meshcat | None = None) -> Station:
     """Build the Diagram. Exported ports: outputs `robot_state`, `person_state`,
     `camera_color_image`, `camera_depth_image`, `camera_label_image`, `camera_pose`,
-    `query_object`, `contact_results`."""
+    `query_object`, `contact_results`; with perception enabled also those of
+    `perception_wiring.PERCEPTION_OUTPUTS`."""
     builder = DiagramBuilder()
     config = MultibodyPlantConfig(
         time_step=scenario.simulation.time_step, discrete_contact_approximation="lagged"
@@ -213,6 +214,10 @@ def build_station(scenario: Scenario, meshcat: Meshcat | None = None) -> Station
     builder.ExportOutput(plant.get_state_output_port(person), "person_state")
     builder.ExportOutput(scene_graph.get_query_output_port(), "query_object")
     builder.ExportOutput(plant.get_contact_results_output_port(), "contact_results")
+    if scenario.perception.enabled:
+        from hsr_handover.perception_wiring import add_perception
+
+        add_perception(builder, plant, person, camera, scenario, meshcat)
     if meshcat is not None:
         params = MeshcatVisualizerParams(publish_period=1.0 / scenario.simulation.replay_fps)
         MeshcatVisualizer.AddToBuilder(builder, scene_graph, meshcat, params)

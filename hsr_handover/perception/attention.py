@@ -17,7 +17,8 @@ from collections.abc import Sequence
 import numpy as np
 
 FACE_KEYPOINTS = (0, 14, 15, 16, 17)  # nose, eyes, ears (COCO-18)
-NECK, RIGHT_WRIST, LEFT_WRIST = 1, 4, 7
+NECK = 1
+RIGHT_ARM, LEFT_ARM = (2, 3, 4), (5, 6, 7)  # shoulder, elbow, wrist (COCO-18)
 FACE_RADIUS = 0.15
 HAND_RADIUS = 0.15
 OBJECT_RADIUS = 0.10
@@ -48,16 +49,25 @@ def face_region(points: np.ndarray, confidence: np.ndarray) -> AttentionRegion |
 
 
 def hand_region(points: np.ndarray, confidence: np.ndarray) -> AttentionRegion | None:
-    """The active hand: of the visible wrists, the one farther from the neck (a raised or
-    pointing hand is away from the body); None when no wrist is visible."""
-    wrists = [i for i in (RIGHT_WRIST, LEFT_WRIST)
-              if confidence[i] > 0 and np.isfinite(points[i]).all()]  # fmt: skip
-    if not wrists:
+    """The active hand: of the visible wrists, the one held out farthest from its shoulder in
+    the horizontal plane (a hand reaching or pointing across the table, not one resting in
+    front of the body). Horizontal reach survives what lifting does to keypoints: each lifted
+    point is the nearest body surface, which for a foreshortened arm puts the elbow on the
+    forearm and corrupts angles. Without the shoulder, the neck stands in; None when no wrist
+    is visible."""
+
+    def seen(index: int) -> bool:
+        return confidence[index] > 0 and np.isfinite(points[index]).all()
+
+    def reach(shoulder: int, wrist: int) -> float:
+        base = shoulder if seen(shoulder) else NECK
+        return float(np.hypot(*(points[wrist] - points[base])[:2])) if seen(base) else 0.0
+
+    arms = [(shoulder, wrist) for shoulder, _, wrist in (RIGHT_ARM, LEFT_ARM) if seen(wrist)]
+    if not arms:
         return None
-    neck_visible = confidence[NECK] > 0 and np.isfinite(points[NECK]).all()
-    if neck_visible and len(wrists) == 2:
-        wrists.sort(key=lambda i: -np.linalg.norm(points[i] - points[NECK]))
-    return AttentionRegion("hand", points[wrists[0]], HAND_RADIUS)
+    _, wrist = max(arms, key=lambda arm: reach(*arm))
+    return AttentionRegion("hand", points[wrist], HAND_RADIUS)
 
 
 def object_region(label: str, center: np.ndarray) -> AttentionRegion | None:

@@ -67,11 +67,14 @@ class Workspace:
     lower: tuple[float, float, float]
     upper: tuple[float, float, float]
 
+    def contains(self, points: np.ndarray) -> np.ndarray:
+        """Which points (N, 3) are finite and inside the box."""
+        with np.errstate(invalid="ignore"):
+            return np.all((points >= self.lower) & (points <= self.upper), axis=1)
+
     def crop(self, points: np.ndarray) -> np.ndarray:
         """The finite points (N, 3) inside the box."""
-        with np.errstate(invalid="ignore"):
-            inside = np.all((points >= self.lower) & (points <= self.upper), axis=1)
-        return points[inside]
+        return points[self.contains(points)]
 
 
 def learn_frame(

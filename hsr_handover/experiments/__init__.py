@@ -1,0 +1,1 @@
+"""Experiments of the paper (layer 3): batches and measurements over the station."""

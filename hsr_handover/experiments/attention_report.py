@@ -1,0 +1,73 @@
+"""Write the attention experiment's results: CSV time series, JSON summary, the paper's figures
+11 (node count and error over time) and 12 (node density per region)."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")  # files only: no display on a robot's or CI's machine
+import matplotlib.pyplot as plt  # noqa: E402
+
+from hsr_handover.experiments.attention import AttentionResult  # noqa: E402
+
+
+def _json_safe(value):
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {key: _json_safe(item) for key, item in value.items()}
+    if isinstance(value, list | tuple):
+        return [_json_safe(item) for item in value]
+    return value
+
+
+def write_json(result: AttentionResult, path: Path) -> None:
+    """Summary with `density_ratio` and `settle_time_s` (null where undefined)."""
+    Path(path).write_text(json.dumps(_json_safe(result.summary()), indent=2) + "\n")
+
+
+def write_csv(result: AttentionResult, path: Path) -> None:
+    """One row per camera frame: time, node count, mean node error, quantisation error."""
+    with open(path, "w", newline="") as stream:
+        writer = csv.writer(stream)
+        writer.writerow(["time_s", "node_count", "mean_node_error", "quantisation_error_m"])
+        for row in zip(result.times, result.node_count, result.mean_node_error,
+                       result.quantisation_error, strict=True):  # fmt: skip
+            writer.writerow([f"{row[0]:.4f}", int(row[1]), f"{row[2]:.6g}", f"{row[3]:.6g}"])
+
+
+def plot(result: AttentionResult, path: Path) -> None:
+    """Fig. 11 (left: node count and mean error with the focus phases shaded) and fig. 12
+    (right: node density ratio per region at the end of each phase)."""
+    figure, (series, bars) = plt.subplots(1, 2, figsize=(12, 4.5))
+    series.plot(result.times, result.node_count, color="tab:blue", label="nodes")
+    series.set_xlabel("simulated time (s)")
+    series.set_ylabel("node count", color="tab:blue")
+    error_axis = series.twinx()
+    error_axis.plot(result.times, result.mean_node_error, color="tab:red", label="mean error")
+    error_axis.set_ylabel("mean node error", color="tab:red")
+    for index, phase in enumerate(result.phases):
+        series.axvspan(phase.start, phase.end, alpha=0.08 * (1 + index % 2), color="grey")
+        label = phase.focus + (f" {phase.target}" if phase.target else "")
+        series.text(phase.start, series.get_ylim()[1] * 0.97, label, fontsize=8, va="top")
+    series.set_title("Scene GNG under shifting attention (paper fig. 11)")
+
+    regions = sorted({name for phase in result.phases for name in phase.density_ratios})
+    width = 0.8 / max(len(result.phases), 1)
+    for index, phase in enumerate(result.phases):
+        values = [phase.density_ratios.get(name, math.nan) for name in regions]
+        offsets = [i + index * width for i in range(len(regions))]
+        bars.bar(offsets, values, width, label=f"focus: {phase.focus} {phase.target}".strip())
+    bars.axhline(1.0, color="black", linewidth=0.8)
+    bars.set_xticks([i + 0.4 - width / 2 for i in range(len(regions))], regions, rotation=20)
+    bars.set_ylabel("node density ratio (region / rest)")
+    bars.set_title("Node density per region (paper fig. 12)")
+    bars.legend(fontsize=8)
+    figure.tight_layout()
+    figure.savefig(path, dpi=110)
+    plt.close(figure)

@@ -1,0 +1,328 @@
+"""The simulated skeleton sensor (paper 3.2): COCO-18 keypoints projected, noisy, dropped and
+hidden as a detector would report them, lifted with depth; OpenPose JSON; the Drake systems;
+and the sensor on the rendered pointing scene."""
+
+from __future__ import annotations
+
+import io
+
+import numpy as np
+import pytest
+from pydrake.math import RigidTransform, RollPitchYaw
+from pydrake.systems.analysis import Simulator
+from pydrake.systems.sensors import ImageDepth32F
+
+from hsr_handover.camera import pinhole_camera
+from hsr_handover.human.body import COCO18_KEYPOINTS
+from hsr_handover.perception.openpose_json import (
+    read_openpose_frames,
+    read_openpose_json,
+    to_openpose_dict,
+    write_openpose_json,
+)
+from hsr_handover.perception.pinhole import PinholeCamera
+from hsr_handover.perception.skeleton import (
+    FACE_KEYPOINTS,
+    NO_VALID_DEPTH,
+    NOT_IN_VIEW,
+    Skeleton,
+    SkeletonNoise,
+    detect_keypoints,
+    keypoint_index,
+    lift_keypoints,
+    simulate_keypoints,
+)
+from hsr_handover.scenario import load_scenario
+from hsr_handover.scenario_checks import object_center
+from hsr_handover.station import build_station
+from hsr_handover.systems.skeleton_sensor import RecordedSkeletonSource, SkeletonSensor
+from tests.conftest import SCENARIOS
+
+CAMERA = PinholeCamera.from_fov_x(320, 240, 1.05)
+X_WC = np.eye(4)
+EXACT = SkeletonNoise(pixel_sigma=0.0, face_drop_probability=0.0)
+SURFACE_OFFSET = 0.02
+BODY_RADIUS_PX = 12
+
+# A person facing the camera 2 m away (camera frame: x right, y down, z forward); the ankles
+# fall below the image.
+KEYPOINTS = np.array([
+    [0.0, -0.55, 1.88], [0.0, -0.40, 2.0], [-0.20, -0.40, 2.0], [-0.26, -0.12, 1.95],
+    [-0.24, 0.14, 1.85], [0.20, -0.40, 2.0], [0.26, -0.12, 2.0], [0.27, 0.15, 2.0],
+    [-0.10, 0.10, 2.0], [-0.10, 0.35, 1.7], [-0.10, 0.90, 1.7], [0.10, 0.10, 2.0],
+    [0.10, 0.35, 1.7], [0.10, 0.90, 1.7], [-0.035, -0.58, 1.90], [0.035, -0.58, 1.90],
+    [-0.08, -0.56, 1.97], [0.08, -0.56, 1.97],
+])  # fmt: skip
+ANKLES = [keypoint_index("r_ankle"), keypoint_index("l_ankle")]
+WRIST = keypoint_index("r_wrist")
+
+
+def _synthetic_depth(offset: float = SURFACE_OFFSET) -> np.ndarray:
+    """Body surface `offset` in front of the nearest keypoint (in the image) within
+    BODY_RADIUS_PX of it, and the background out of range."""
+    pixels, z = CAMERA.project(KEYPOINTS, X_WC)
+    v, u = np.indices((CAMERA.height, CAMERA.width))
+    distance = np.hypot(u[..., None] - pixels[:, 0], v[..., None] - pixels[:, 1])
+    surface = (z - offset)[distance.argmin(axis=2)]
+    return np.where(distance.min(axis=2) <= BODY_RADIUS_PX, surface, np.inf).astype(np.float32)
+
+
+def _simulate(depth=None, noise=EXACT, seed=0, X=X_WC) -> Skeleton:
+    depth = _synthetic_depth() if depth is None else depth
+    return simulate_keypoints(KEYPOINTS, CAMERA, X, depth, noise, np.random.default_rng(seed))
+
+
+def test_exact_detection_is_the_projection_and_lifts_the_surface():
+    skeleton = _simulate()
+    pixels, z = CAMERA.project(KEYPOINTS, X_WC)
+    in_image = np.ones(18, dtype=bool)
+    in_image[ANKLES] = False
+    assert skeleton.status == "ok"
+    np.testing.assert_array_equal(skeleton.visible, in_image)
+    np.testing.assert_array_equal(skeleton.pixels[in_image], pixels[in_image])
+    assert np.isnan(skeleton.pixels[ANKLES]).all() and np.isnan(skeleton.points[ANKLES]).all()
+    surface = CAMERA.deproject(pixels, z - SURFACE_OFFSET, X_WC)
+    np.testing.assert_allclose(skeleton.points[in_image], surface[in_image], atol=1e-6)
+    assert np.all((skeleton.confidence[in_image] >= 0.6) & (skeleton.confidence[in_image] <= 0.9))
+    wrist = skeleton.keypoint("r_wrist")
+    assert wrist.confidence > 0 and np.allclose(wrist.point, surface[WRIST], atol=1e-6)
+
+
+def test_pixel_noise_has_the_configured_sigma():
+    noise = SkeletonNoise(pixel_sigma=3.0, face_drop_probability=0.0)
+    depth, true_pixels = _synthetic_depth(), CAMERA.project(KEYPOINTS, X_WC)[0]
+    errors = []
+    for seed in range(200):
+        detection = detect_keypoints(
+            KEYPOINTS, CAMERA, X_WC, depth, noise, np.random.default_rng(seed)
+        )
+        visible = detection.confidence > 0
+        errors.append((detection.pixels - true_pixels)[visible])
+    errors = np.concatenate(errors)
+    assert len(errors) > 3000
+    assert abs(errors.mean()) < 0.2
+    assert errors.std() == pytest.approx(3.0, rel=0.08)
+
+
+def test_keypoints_outside_the_image_are_missing():
+    # Move the camera 0.85 m sideways: the keypoints on one side leave the image.
+    X = np.eye(4)
+    X[0, 3] = -0.85
+    skeleton = _simulate(X=X)
+    pixels, _ = CAMERA.project(KEYPOINTS, X)
+    outside = ~CAMERA.contains(pixels)
+    assert outside.any() and not outside.all()
+    assert np.all(skeleton.confidence[outside] == 0)
+    assert np.all(CAMERA.contains(skeleton.pixels[skeleton.visible]))
+
+
+def test_an_occluder_hides_the_wrist_and_nothing_else():
+    depth = _synthetic_depth()
+    u, v = np.rint(CAMERA.project(KEYPOINTS[[WRIST]], X_WC)[0][0]).astype(int)
+    depth[v - 4 : v + 5, u - 4 : u + 5] = 1.2
+    noise = SkeletonNoise(pixel_sigma=1.0, face_drop_probability=0.3)
+    clear, occluded = _simulate(noise=noise, seed=5), _simulate(depth, noise=noise, seed=5)
+    assert clear.confidence[WRIST] > 0 and occluded.confidence[WRIST] == 0
+    others = np.arange(18) != WRIST
+    np.testing.assert_array_equal(occluded.confidence[others], clear.confidence[others])
+    np.testing.assert_array_equal(occluded.pixels[others], clear.pixels[others])
+
+
+def test_own_limb_in_front_of_a_joint_does_not_hide_it():
+    # A forearm pointing at the camera covers its elbow 10 cm in front: still the elbow.
+    depth = _synthetic_depth()
+    elbow = keypoint_index("r_elbow")
+    u, v = np.rint(CAMERA.project(KEYPOINTS[[elbow]], X_WC)[0][0]).astype(int)
+    depth[v - 4 : v + 5, u - 4 : u + 5] = KEYPOINTS[elbow, 2] - 0.10
+    assert _simulate(depth).confidence[elbow] > 0
+
+
+def test_face_drop_probability():
+    face = [keypoint_index(name) for name in FACE_KEYPOINTS]
+    always = SkeletonNoise(pixel_sigma=0.0, face_drop_probability=1.0)
+    assert np.all(_simulate(noise=always).confidence[face] == 0)
+    assert np.all(_simulate(noise=always).confidence[keypoint_index("neck")] > 0)
+    for seed in range(20):
+        assert np.all(_simulate(noise=EXACT, seed=seed).confidence[face] > 0)
+
+
+def test_lifting_uses_the_window_median_and_keeps_pixels_without_depth():
+    depth = _synthetic_depth()
+    pixels, z = CAMERA.project(KEYPOINTS, X_WC)
+    confidence = np.full(18, 0.8)
+    confidence[ANKLES] = 0.0
+    neck, wrist = keypoint_index("neck"), WRIST
+    (nu, nv), (wu, wv) = np.rint(pixels[[neck, wrist]]).astype(int)
+    depth[nv, nu] = np.nan  # a hole exactly at the neck: its neighbours still lift it
+    depth[wv - 10 : wv + 11, wu - 10 : wu + 11] = np.inf  # no depth around the wrist at all
+    skeleton = lift_keypoints(pixels, confidence, depth, CAMERA, X_WC)
+    expected = CAMERA.deproject(pixels[neck], z[neck] - SURFACE_OFFSET, X_WC)[0]
+    np.testing.assert_allclose(skeleton.points[neck], expected, atol=1e-6)
+    assert skeleton.confidence[wrist] == 0 and np.isnan(skeleton.points[wrist]).all()
+    np.testing.assert_array_equal(skeleton.pixels[wrist], pixels[wrist])
+    assert skeleton.status == "ok"
+
+
+def test_all_nan_depth_gives_an_empty_skeleton_that_says_why():
+    depth = np.full((CAMERA.height, CAMERA.width), np.nan, dtype=np.float32)
+    skeleton = _simulate(depth, noise=SkeletonNoise())
+    assert skeleton.is_empty and np.all(skeleton.confidence == 0)
+    assert skeleton.status == NO_VALID_DEPTH
+
+
+def test_camera_facing_away_sees_no_person():
+    turned = X_WC @ RigidTransform(RollPitchYaw(0, np.pi, 0), np.zeros(3)).GetAsMatrix4()
+    skeleton = _simulate(noise=SkeletonNoise(), X=turned)
+    assert skeleton.is_empty and np.all(skeleton.confidence == 0)
+    assert skeleton.status == NOT_IN_VIEW
+    assert np.isnan(skeleton.pixels).all() and np.isnan(skeleton.points).all()
+
+
+def test_openpose_json_round_trip(tmp_path):
+    noisy = _simulate(noise=SkeletonNoise(face_drop_probability=0.5), seed=3)
+    people = [noisy.detection(), _simulate().detection()]
+    path = tmp_path / "frame_000000000000_keypoints.json"
+    write_openpose_json(path, people)
+    stream = io.StringIO()
+    write_openpose_json(stream, people)
+    stream.seek(0)
+    for read_back in (read_openpose_json(path), read_openpose_json(stream)):
+        assert len(read_back) == 2
+        for original, again in zip(people, read_back, strict=True):
+            np.testing.assert_array_equal(again.pixels, original.pixels)
+            np.testing.assert_array_equal(again.confidence, original.confidence)
+    values = to_openpose_dict(people)["people"][0]["pose_keypoints_2d"]
+    assert len(values) == 54 and values[3 * ANKLES[0] : 3 * ANKLES[0] + 3] == [0.0, 0.0, 0.0]
+
+
+def test_malformed_openpose_json_names_the_file_and_the_problem(tmp_path):
+    path = tmp_path / "bad.json"
+    path.write_text('{"version": 1.3, "people": [{"pose_keypoints_2d": ' + str([1.0] * 50) + "}]}")
+    expected = (
+        r"bad\.json: people\[0\]\.pose_keypoints_2d: expected 54 numbers \(18 keypoints x 3\)"
+    )
+    with pytest.raises(ValueError, match=expected + ", got 50"):
+        read_openpose_json(path)
+    path.write_text("{not json")
+    with pytest.raises(ValueError, match=r"bad\.json: expected OpenPose JSON"):
+        read_openpose_json(path)
+    empty = tmp_path / "empty.json"
+    empty.write_text('{"version": 1.3, "people": []}')
+    assert read_openpose_json(empty) == [] and read_openpose_frames([empty])[0].status != "ok"
+
+
+# The station: point_left.yaml mid-gesture, the right hand pointing across to the red cup.
+
+
+@pytest.fixture(scope="module")
+def pointing_scene():
+    """The scene at 3 s with a depth image rendered at that moment (the camera is slowed to
+    render only at 0 s and 3 s)."""
+    scenario = load_scenario(SCENARIOS / "point_left.yaml")
+    scenario.camera.rate_hz = 1.0 / 3.0
+    scenario.camera.render_label = False
+    station = build_station(scenario)
+    simulator = Simulator(station.diagram)
+    simulator.AdvanceTo(3.001)  # the capture at 3 s runs at the start of the next step
+    context = simulator.get_context()
+    plant_context = station.plant.GetMyContextFromRoot(context)
+    inputs = {
+        "body_poses": station.plant.get_body_poses_output_port().Eval(plant_context),
+        "depth_image": station.diagram.GetOutputPort("camera_depth_image").Eval(context),
+        "camera_pose": station.diagram.GetOutputPort("camera_pose").Eval(context),
+    }
+    truth = np.array([
+        station.plant.GetFrameByName(f"coco_{name}", station.person)
+        .CalcPoseInWorld(plant_context).translation()
+        for name in COCO18_KEYPOINTS
+    ])  # fmt: skip
+    return station, inputs, truth
+
+
+def _sensor_context(sensor, inputs: dict, time: float = 3.0):
+    context = sensor.CreateDefaultContext()
+    context.SetTime(time)
+    for name, value in inputs.items():
+        sensor.GetInputPort(name).FixValue(context, value)
+    return context
+
+
+def _sensor(station, noise=None, seed=0) -> SkeletonSensor:
+    camera = pinhole_camera(station.scenario.camera)
+    return SkeletonSensor(station.plant, station.person, camera, noise, seed)
+
+
+def test_sensor_is_reproducible_per_frame(pointing_scene):
+    station, inputs, _ = pointing_scene
+    sensor = _sensor(station, seed=7)
+    port = sensor.GetOutputPort("skeleton")
+    first = port.Eval(_sensor_context(sensor, inputs, 3.0))
+    later = port.Eval(_sensor_context(sensor, inputs, 3.1))
+    again = port.Eval(_sensor_context(sensor, inputs, 3.0))
+    np.testing.assert_array_equal(again.pixels, first.pixels)
+    assert not np.array_equal(later.pixels, first.pixels, equal_nan=True)
+    # The camera's image time, when connected, keys the noise instead of the context time.
+    keyed = port.Eval(_sensor_context(sensor, {**inputs, "image_time": 3.0}, 3.1))
+    np.testing.assert_array_equal(keyed.pixels, first.pixels)
+    no_image = port.Eval(_sensor_context(sensor, {**inputs, "depth_image": ImageDepth32F()}))
+    assert no_image.is_empty and no_image.status == "no depth image"
+
+
+def test_sensor_sees_the_pointing_arm_where_it_is(pointing_scene):
+    station, inputs, truth = pointing_scene
+    camera = pinhole_camera(station.scenario.camera)
+    sensor = _sensor(station, SkeletonNoise(face_drop_probability=0.0))
+    skeleton = sensor.GetOutputPort("skeleton").Eval(_sensor_context(sensor, inputs))
+    assert skeleton.status == "ok"
+    # The upper body is in view, in front of the table; hips and legs are behind it or below.
+    upper = [keypoint_index(n) for n in ("nose", "neck", "r_shoulder", "r_elbow", "r_wrist")]
+    assert np.all(skeleton.confidence[upper] > 0)
+    assert np.all(skeleton.confidence[[keypoint_index(n) for n in ("r_hip", "l_hip")]] == 0)
+    assert np.all(camera.contains(skeleton.pixels[skeleton.visible]))
+    X_WC = inputs["camera_pose"].GetAsMatrix4()
+    projected = camera.project(truth, X_WC)[0]
+    pixel_error = np.linalg.norm(skeleton.pixels - projected, axis=1)[skeleton.visible]
+    assert np.all(pixel_error < 4 * 2.0 * np.sqrt(2))
+    for name in ("r_shoulder", "r_elbow", "r_wrist"):
+        i = keypoint_index(name)
+        offset = skeleton.points[i] - truth[i]
+        ray = truth[i] - X_WC[:3, 3]
+        ray /= np.linalg.norm(ray)
+        # The body surface seen at the pixel: in front of the joint along the viewing ray
+        # (most for the shoulder, whose raised arm covers it), barely off it sideways.
+        assert -0.17 < offset @ ray < 0.0, name
+        assert np.linalg.norm(offset - (offset @ ray) * ray) < 0.03, name
+    assert np.linalg.norm(skeleton.points[WRIST] - truth[WRIST]) < 0.06
+
+
+def test_lifted_pointing_ray_hits_the_target(pointing_scene):
+    station, inputs, _ = pointing_scene
+    sensor = _sensor(station, seed=1)
+    skeleton = sensor.GetOutputPort("skeleton").Eval(_sensor_context(sensor, inputs))
+    shoulder, wrist = skeleton.keypoint("r_shoulder").point, skeleton.keypoint("r_wrist").point
+    scenario = station.scenario
+    centers = {obj.name: object_center(scenario, obj) for obj in scenario.objects}
+    target = scenario.person.behavior[-1].target
+
+    def angle(center):
+        a, b = wrist - shoulder, center - shoulder
+        return np.degrees(np.arccos(a @ b / np.linalg.norm(a) / np.linalg.norm(b)))
+
+    assert angle(centers[target]) < 10.0
+    assert all(angle(c) > angle(centers[target]) for n, c in centers.items() if n != target)
+
+
+def test_recorded_detections_replay_through_the_same_lifting(pointing_scene, tmp_path):
+    station, inputs, _ = pointing_scene
+    sensor = _sensor(station, seed=2)
+    live = sensor.GetOutputPort("skeleton").Eval(_sensor_context(sensor, inputs))
+    path = tmp_path / "frame.json"
+    write_openpose_json(path, [live.detection()])
+    camera = pinhole_camera(station.scenario.camera)
+    source = RecordedSkeletonSource(read_openpose_frames([path]), 10.0, camera)
+    replay_inputs = {k: v for k, v in inputs.items() if k != "body_poses"}
+    port = source.GetOutputPort("skeleton")
+    replayed = port.Eval(_sensor_context(source, replay_inputs, 0.05))
+    np.testing.assert_array_equal(replayed.points, live.points)
+    np.testing.assert_array_equal(replayed.confidence, live.confidence)
+    assert port.Eval(_sensor_context(source, replay_inputs, 0.1)).status == "recording ended"
