@@ -73,8 +73,14 @@ def _stage_times(repeats: int) -> dict[str, float]:
     workspace = Workspace(tuple(box[:3]), tuple(box[3:]))
 
     def learn():
-        learn_frame(copy.deepcopy(learner), points, workspace, regions,
-                    scenario.perception.signals_per_frame, scenario.perception.attention_gain)
+        learn_frame(
+            copy.deepcopy(learner),
+            points,
+            workspace,
+            regions,
+            scenario.perception.signals_per_frame,
+            scenario.perception.attention_gain,
+        )
 
     copy_only = _median_ms(lambda: copy.deepcopy(learner), repeats)
     stages = {
@@ -125,10 +131,14 @@ def main() -> None:
     off = statistics.median(_wall_time(args.duration, False) for _ in range(args.runs))
     print(f"attention_shift.yaml, {args.duration:g} s simulated, median of {args.runs} runs:")
     print(f"  perception on:  wall {on:6.2f} s, real-time factor {args.duration / on:5.2f}")
-    print(f"  baseline, perception off (camera still 30 Hz): wall {off:6.2f} s, "
-          f"real-time factor {args.duration / off:5.2f}")
-    print(f"  perception's share of wall time: {(on - off) / on:.0%} "
-          f"({(on - off) / (args.duration * 30) * 1e3:.1f} ms per camera frame)")
+    print(
+        f"  baseline, perception off (camera still 30 Hz): wall {off:6.2f} s, "
+        f"real-time factor {args.duration / off:5.2f}"
+    )
+    print(
+        f"  perception's share of wall time: {(on - off) / on:.0%} "
+        f"({(on - off) / (args.duration * 30) * 1e3:.1f} ms per camera frame)"
+    )
 
 
 if __name__ == "__main__":

@@ -10,7 +10,12 @@ from pydrake.systems.analysis import Simulator
 from pydrake.systems.sensors import ImageDepth32F
 
 from hsr_handover.perception.attention import AttentionRegion, FocusChange
-from hsr_handover.perception.cloud_map import SCENE_GNG_PARAMS, GraphSnapshot, Workspace, learn_frame
+from hsr_handover.perception.cloud_map import (
+    SCENE_GNG_PARAMS,
+    GraphSnapshot,
+    Workspace,
+    learn_frame,
+)
 from hsr_handover.systems.attention_focus import AttentionFocus
 from hsr_handover.systems.depth_downsampler import DepthDownsampler
 from hsr_handover.systems.point_cloud_gng import STATS, PointCloudGng
