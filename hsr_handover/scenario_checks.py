@@ -183,6 +183,17 @@ def footprints_overlap(a: ObjectConfig, b: ObjectConfig) -> bool:
     return True
 
 
+def _check_time_order(fail, key: str, starts: list[float]) -> None:
+    """A script's entries start at finite, non-negative, non-decreasing times."""
+    previous = 0.0
+    for index, start in enumerate(starts):
+        if not (start >= previous and math.isfinite(start)):
+            fail(
+                f"{key}[{index}].start", f"expected a time >= {previous} s (entries in time order)"
+            )
+        previous = start
+
+
 def _check_person(scenario: Scenario, fail) -> None:
     person = scenario.person
     if len(person.position) != 2:
@@ -192,14 +203,11 @@ def _check_person(scenario: Scenario, fail) -> None:
     if person.posture not in ("seated", "standing"):
         fail("person.posture", f"expected 'seated' or 'standing', got {person.posture!r}")
     names = {obj.name for obj in scenario.objects}
-    previous_start = 0.0
+    _check_time_order(fail, "person.behavior", [action.start for action in person.behavior])
     for index, action in enumerate(person.behavior):
         key = f"person.behavior[{index}]"
         if action.action not in ACTIONS:
             fail(f"{key}.action", f"expected one of {list(ACTIONS)}, got {action.action!r}")
-        if not (action.start >= previous_start and math.isfinite(action.start)):
-            fail(f"{key}.start", f"expected a time >= {previous_start} s (actions in time order)")
-        previous_start = action.start
         if action.duration is not None:
             _positive(fail, f"{key}.duration", action.duration)
         if action.arm not in ("right", "left"):
@@ -229,14 +237,13 @@ def _check_perception(scenario: Scenario, fail) -> None:
     if not perception.pixel_sigma >= 0:
         fail("perception.pixel_sigma", f"expected sigma >= 0, got {perception.pixel_sigma}")
     names = {obj.name for obj in scenario.objects}
-    previous_start = 0.0
+    _check_time_order(
+        fail, "perception.attention", [change.start for change in perception.attention]
+    )
     for index, change in enumerate(perception.attention):
         key = f"perception.attention[{index}]"
         if change.focus not in FOCUS_KINDS:
             fail(f"{key}.focus", f"expected one of {list(FOCUS_KINDS)}, got {change.focus!r}")
-        if not change.start >= previous_start:
-            fail(f"{key}.start", f"expected a time >= {previous_start} s (changes in time order)")
-        previous_start = change.start
         if change.focus == "object" and change.target not in names:
             fail(
                 f"{key}.target",

@@ -80,6 +80,11 @@ BROKEN = {
         "person.behavior[1].duration",
         "positive",
     ),
+    "actions out of order": (
+        _set("person.behavior[1].start", 0.1),
+        "person.behavior[1].start",
+        "in time order",
+    ),
     "negative sim duration": (_set("simulation.duration", -1.0), "simulation.duration", "positive"),
     "person in the table": (
         _set("person.position", [1.15, 0.0]),
