@@ -1,7 +1,8 @@
 """Wire the robot's perception into the station (DESIGN §2):
 
     head camera depth -> DepthDownsampler -> DepthImageToPointCloud -> PointCloudGng
-    head camera colour + depth ----------> ObjectDetector -----------+
+    head camera colour + depth ----------> ObjectDetector -----------+--> DetectionCrossCheck
+                                                                     |    (against the GNG)
     plant body poses + depth ------------> SkeletonSensor -----------+-> AttentionFocus -+
                                                                                         v
                                                               PointCloudGng `attention` input
@@ -27,6 +28,7 @@ from hsr_handover.perception.skeleton import SkeletonNoise
 from hsr_handover.scenario import Scenario, ScenarioError
 from hsr_handover.systems.attention_focus import AttentionFocus
 from hsr_handover.systems.depth_downsampler import DepthDownsampler
+from hsr_handover.systems.detection_cross_check import DetectionCrossCheck
 from hsr_handover.systems.graph_visualizer import add_graph_visualizer
 from hsr_handover.systems.object_detector import ObjectDetector
 from hsr_handover.systems.point_cloud_gng import PointCloudGng
@@ -34,7 +36,7 @@ from hsr_handover.systems.skeleton_sensor import SkeletonSensor
 from hsr_handover.topology.growing_neural_gas import GrowingNeuralGas
 
 PERCEPTION_OUTPUTS = ("gng_graph", "gng_stats", "gng_frame_report", "point_cloud",
-                      "detections", "skeleton", "attention")  # fmt: skip
+                      "detections", "detection_support", "skeleton", "attention")  # fmt: skip
 
 
 def focus_schedule(scenario: Scenario) -> list[FocusChange]:
@@ -113,6 +115,9 @@ def add_perception(
     )  # fmt: skip
     builder.Connect(to_cloud.point_cloud_output_port(), gng.GetInputPort("point_cloud"))
     builder.Connect(focus.GetOutputPort("attention"), gng.GetInputPort("attention"))
+    cross_check = builder.AddNamedSystem("detection_cross_check", DetectionCrossCheck())
+    builder.Connect(detector.GetOutputPort("detections"), cross_check.GetInputPort("detections"))
+    builder.Connect(gng.GetOutputPort("graph"), cross_check.GetInputPort("graph"))
     if meshcat is not None:
         add_graph_visualizer(builder, gng.GetOutputPort("graph"), meshcat)
 
@@ -122,6 +127,7 @@ def add_perception(
         "gng_frame_report": gng.GetOutputPort("frame_report"),
         "point_cloud": to_cloud.point_cloud_output_port(),
         "detections": detector.GetOutputPort("detections"),
+        "detection_support": cross_check.GetOutputPort("detection_support"),
         "skeleton": skeleton.GetOutputPort("skeleton"),
         "attention": focus.GetOutputPort("attention"),
     }

@@ -41,6 +41,8 @@ def test_the_map_the_detections_and_the_skeleton_come_from_the_camera(watching_t
     labels = {d.label: d.center for d in percepts["detections"].detections}
     for obj in station.scenario.objects:
         assert np.linalg.norm(labels[obj.color] - object_center(station.scenario, obj)) < 0.015
+    support = {entry.label: entry for entry in percepts["detection_support"]}
+    assert all(support[obj.color].confirmed for obj in station.scenario.objects)
     skeleton = percepts["skeleton"]
     assert skeleton.status == "ok" and (skeleton.confidence > 0).sum() >= 8
 

@@ -161,3 +161,19 @@ def test_bad_cli_arguments_are_one_line_errors(write_scenario, tmp_path, capsys)
     assert main(["run", str(path), "--html", str(tmp_path / "missing" / "a.html")]) == 2
     assert "--html: expected an existing directory" in capsys.readouterr().err
     assert not (tmp_path / "a.html").exists()
+
+
+def test_attention_needs_a_schedule_and_checks_outputs_before_running(
+    write_scenario, tmp_path, capsys
+):
+    path = write_scenario()
+    assert main(["attention", str(path), "--json", str(tmp_path / "a.json")]) == 2
+    assert "perception.attention: expected a focus schedule" in capsys.readouterr().err
+
+    def schedule(data):
+        data["perception"] = {"attention": [{"start": 0.0, "focus": "face"}]}
+
+    path = write_scenario(schedule)
+    assert main(["attention", str(path), "--plot", str(tmp_path / "a.jpg")]) == 2
+    assert "--plot: expected a path ending in .png" in capsys.readouterr().err
+    assert not list(tmp_path.glob("a.*"))

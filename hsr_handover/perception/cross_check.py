@@ -1,0 +1,40 @@
+"""Cross-check object detections against the scene map: an object the colour detector found
+should also be a bump of nodes in the GNG learnt from depth. A detection with no nodes near
+its centre is colour without geometry (a printed patch, a reflection) or a wrong depth."""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Sequence
+
+import numpy as np
+
+from hsr_handover.perception.cloud_map import GraphSnapshot
+
+SUPPORT_RADIUS = 0.06  # m: about an object's half-size plus the map's node spacing
+MIN_SUPPORT = 2  # nodes
+
+
+@dataclasses.dataclass(frozen=True)
+class DetectionSupport:
+    """How many map nodes lie within SUPPORT_RADIUS of a detection's centre, the map cluster
+    most of them belong to (-1 for none), and whether that is enough to confirm it."""
+
+    label: str
+    nodes: int
+    cluster: int
+    confirmed: bool
+
+
+def support_of(
+    detections: Sequence[tuple[str, np.ndarray]], graph: GraphSnapshot
+) -> tuple[DetectionSupport, ...]:
+    """Support of each (label, centre) detection in the map; NaN centres get none."""
+    supports = []
+    for label, center in detections:
+        with np.errstate(invalid="ignore"):
+            near = np.linalg.norm(graph.nodes - center, axis=1) <= SUPPORT_RADIUS
+        count = int(near.sum())
+        cluster = int(np.bincount(graph.clusters[near]).argmax()) if count else -1
+        supports.append(DetectionSupport(label, count, cluster, count >= MIN_SUPPORT))
+    return tuple(supports)
