@@ -15,9 +15,7 @@ class DetectionCrossCheck(LeafSystem):
 
     def __init__(self):
         super().__init__()
-        self._detections = self.DeclareAbstractInputPort(
-            "detections", AbstractValue.Make(object())
-        )
+        self._detections = self.DeclareAbstractInputPort("detections", AbstractValue.Make(object()))
         self._graph = self.DeclareAbstractInputPort(
             "graph", AbstractValue.Make(GraphSnapshot.empty())
         )
