@@ -84,8 +84,9 @@ def test_attention_experiment_meets_the_papers_figures(tmp_path):
     )  # fmt: skip
     assert result.returncode == 0, result.stderr
     summary = json.loads(outputs["json"].read_text())
-    assert summary["density_ratio"] >= 3.0  # the paper: about 4x; see the README's figures
-    assert summary["region_settle_time_s"] <= 1.0
+    assert summary["density_ratio"] >= 4.0  # the target (the paper: about 4x)
+    assert summary["region_settle_time_s"] <= 0.5  # the map follows attention within 0.5 s
+    assert summary["settle_time_s"] <= 1.5  # the node count (target 1 s; 0.5-1.0 s over seeds)
     for phase in summary["phases"][1:]:
         assert phase["attention_gain"] > 2.5, phase["focus"]
     assert len(outputs["csv"].read_text().splitlines()) > 200

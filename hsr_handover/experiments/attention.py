@@ -18,6 +18,7 @@ found in its own percepts.
 from __future__ import annotations
 
 import dataclasses
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -45,7 +46,7 @@ HUMAN_FOCI = ("face", "hand")
 @dataclasses.dataclass
 class PhaseResult:
     """One focus phase: its focus, time span, node-count settle time (s after the shift; NaN
-    when it never settled), per-region node density ratios at its end, node count, the
+    when it never settled), per-region node density ratios over its settled end, node count, the
     attention gain of the attended region (NaN without a focus or a no-focus baseline), and
     how long the number of nodes inside the attended region took to settle (how fast the map
     follows attention)."""
@@ -208,63 +209,74 @@ def _smooth(times: np.ndarray, values: np.ndarray) -> np.ndarray:
 
 
 class AttentionRecorder:
-    """A simulator monitor: samples the map's stats at the camera's rate and snapshots the map,
-    the observed surface and the true regions just before each shift of focus."""
+    """A simulator monitor: samples the map's stats at the camera's rate and, over the settled
+    end of each focus phase (its last second, or last half if shorter), the density ratio of
+    every region, averaged at the end. A region holds only a few nodes (a hand, about five), so
+    one frame's ratio moves by a fifth with a single node; thirty frames steady it."""
 
     def __init__(self, station: Station):
         scenario = station.scenario
         self.station, self.period = station, 1.0 / scenario.camera.rate_hz
         self.schedule = list(scenario.perception.attention)
-        starts = [change.start for change in self.schedule]
-        self.ends = [*starts[1:], scenario.simulation.duration]
-        # Half a frame before each shift, so the map has not yet begun to move.
-        self.pending = [end - 0.5 * self.period for end in self.ends]
+        self.starts = [change.start for change in self.schedule]
+        self.ends = [*self.starts[1:], scenario.simulation.duration]
         self.next_sample = 0.0
         self.rows: list[tuple[float, ...]] = []
-        self.snapshots: list[tuple[GraphSnapshot, np.ndarray, np.ndarray, dict]] = []
+        self.ratios: list[list[dict[str, float]]] = [[] for _ in self.schedule]
         self.cloud_size = tuple(scenario.perception.cloud_size)
         box = scenario.perception.workspace
         self.workspace = Workspace(tuple(box[:3]), tuple(box[3:]))
 
     def __call__(self, context: Context) -> EventStatus:
-        time, diagram = context.get_time(), self.station.diagram
-        if time + 1e-9 >= self.next_sample:
-            stats = diagram.GetOutputPort("gng_stats").Eval(context)
-            self.rows.append((time, *stats[:3], self._nodes_in_attended_region(context)))
-            self.next_sample += self.period
-        if self.pending and time + 1e-9 >= self.pending[0]:
-            self.pending.pop(0)
-            self.snapshots.append(self._snapshot(context))
+        time = context.get_time()
+        if time + 1e-9 < self.next_sample:
+            return EventStatus.Succeeded()
+        self.next_sample += self.period
+        phase = int(np.searchsorted(self.starts, time + 1e-9, side="right")) - 1
+        regions = truth_regions(self.station, context)
+        graph = self.station.diagram.GetOutputPort("gng_graph").Eval(context)
+        stats = self.station.diagram.GetOutputPort("gng_stats").Eval(context)
+        attended = 0
+        if phase >= 0 and self.schedule[phase].focus != "none":
+            change = self.schedule[phase]
+            attended = int(regions[change.target or change.focus].contains(graph.nodes).sum())
+        self.rows.append((time, *stats[:3], attended))
+        if phase >= 0 and self._in_settled_tail(phase, time):
+            self.ratios[phase].append(self._density_ratios(context, graph, regions))
         return EventStatus.Succeeded()
 
-    def _nodes_in_attended_region(self, context: Context) -> int:
-        time = context.get_time()
-        current = [c for c in self.schedule if c.start <= time]
-        if not current or current[-1].focus == "none":
-            return 0
-        region = truth_regions(self.station, context)[current[-1].target or current[-1].focus]
-        graph = self.station.diagram.GetOutputPort("gng_graph").Eval(context)
-        return int(region.contains(graph.nodes).sum())
+    def _in_settled_tail(self, phase: int, time: float) -> bool:
+        start, end = self.starts[phase], self.ends[phase]
+        return time >= end - min(SETTLED_TAIL_S, (end - start) / 2)
 
-    def _snapshot(self, context: Context) -> tuple:
-        diagram = self.station.diagram
-        graph = diagram.GetOutputPort("gng_graph").Eval(context)
-        cloud = diagram.GetOutputPort("point_cloud").Eval(context).xyzs().T.astype(float)
+    def _density_ratios(self, context: Context, graph: GraphSnapshot, regions: dict) -> dict:
+        cloud = self.station.diagram.GetOutputPort("point_cloud").Eval(context).xyzs().T
+        cloud = cloud.astype(float)
         areas = pixel_areas(cloud, *self.cloud_size)
         inside = self.workspace.contains(cloud)
-        return graph, cloud[inside], areas[inside], truth_regions(self.station, context)
+        return {
+            name: density_ratio(graph, cloud[inside], areas[inside], region)
+            for name, region in regions.items()
+        }
 
     def result(self) -> AttentionResult:
         series = np.array(self.rows, dtype=float).reshape(-1, 5)
         times, counts, region_nodes = series[:, 0], series[:, 1], series[:, 4]
         phases = []
-        for change, end, snapshot in zip(self.schedule, self.ends, self.snapshots, strict=False):
-            graph, cloud, areas, regions = snapshot
-            ratios = {name: density_ratio(graph, cloud, areas, r) for name, r in regions.items()}
-            settle = settle_time(times, counts, change.start, end)
-            region_settle = settle_time(times, region_nodes, change.start, end)
-            phase = PhaseResult(change.focus, change.target, change.start, end, settle, ratios,
-                                len(graph.nodes), region_settle_time_s=region_settle)  # fmt: skip
+        for index, change in enumerate(self.schedule):
+            start, end = self.starts[index], self.ends[index]
+            samples = self.ratios[index]
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN regions stay NaN
+                ratios = {name: float(np.nanmean([r[name] for r in samples]))
+                          for name in (samples[0] if samples else {})}  # fmt: skip
+            tail = (times >= start) & (times < end) & (times >= end - SETTLED_TAIL_S)
+            phase = PhaseResult(
+                change.focus, change.target, start, end,
+                settle_time(times, counts, start, end), ratios,
+                int(np.median(counts[tail])) if tail.any() else 0,
+                region_settle_time_s=settle_time(times, region_nodes, start, end),
+            )  # fmt: skip
             phases.append(phase)
         return AttentionResult(
             times, counts, series[:, 2], series[:, 3], _with_gains(phases), region_nodes
