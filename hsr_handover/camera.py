@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import math
-
 from pydrake.geometry import (
     ClippingRange,
     ColorRenderCamera,
@@ -24,21 +22,19 @@ from hsr_handover.scenario import CameraConfig
 from hsr_handover.systems.head_camera import HeadCamera
 
 
-def camera_fov_y(width: int, height: int, fov_x: float) -> float:
-    """Vertical field of view of a pinhole camera with square pixels."""
-    return 2.0 * math.atan(math.tan(fov_x / 2.0) * height / width)
-
-
 def pinhole_camera(config: CameraConfig) -> PinholeCamera:
-    """The same intrinsics as `camera_info`, as the numpy model perception uses."""
+    """The head camera's intrinsics, as the numpy model perception uses."""
     return PinholeCamera.from_fov_x(config.width, config.height, config.fov_x)
 
 
+def to_camera_info(camera: PinholeCamera) -> CameraInfo:
+    """The same intrinsics as Drake's CameraInfo, for renderers and point-cloud systems."""
+    return CameraInfo(camera.width, camera.height, camera.fx, camera.fy, camera.cx, camera.cy)
+
+
 def camera_info(config: CameraConfig) -> CameraInfo:
-    """Pinhole intrinsics for the configured image size and horizontal field of view."""
-    return CameraInfo(
-        config.width, config.height, camera_fov_y(config.width, config.height, config.fov_x)
-    )
+    """The head camera's intrinsics for Drake's renderer."""
+    return to_camera_info(pinhole_camera(config))
 
 
 def add_head_camera(

@@ -55,7 +55,7 @@ def add_hsr(
     return instance
 
 
-def _actuated_joint_names(plant: MultibodyPlant, instance: ModelInstanceIndex) -> list[str]:
+def actuated_joint_names(plant: MultibodyPlant, instance: ModelInstanceIndex) -> list[str]:
     """Names of the actuated joints of ``instance`` in increasing actuator index order."""
     return [
         plant.get_joint_actuator(index).joint().name()
@@ -71,7 +71,7 @@ def _resolve_positions(
     Keys are actuated joint names, or "gripper" for the total fingertip opening (m), which
     sets hand_l_finger_joint to half of it.
     """
-    names = _actuated_joint_names(plant, instance)
+    names = actuated_joint_names(plant, instance)
     resolved = dict.fromkeys(names, 0.0)
     for key, value in positions.items():
         if key == GRIPPER_KEY:

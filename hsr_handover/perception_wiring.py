@@ -19,9 +19,9 @@ from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import ModelInstanceIndex
 from pydrake.perception import BaseField, DepthImageToPointCloud
 from pydrake.systems.framework import DiagramBuilder, LeafSystem
-from pydrake.systems.sensors import CameraInfo, PixelType
+from pydrake.systems.sensors import PixelType
 
-from hsr_handover.camera import pinhole_camera
+from hsr_handover.camera import pinhole_camera, to_camera_info
 from hsr_handover.perception.attention import FocusChange
 from hsr_handover.perception.cloud_map import Workspace
 from hsr_handover.perception.skeleton import SkeletonNoise
@@ -62,8 +62,7 @@ def _add_cloud(builder: DiagramBuilder, camera: LeafSystem, scenario: Scenario) 
     width, height = scenario.perception.cloud_size
     downsampler = builder.AddNamedSystem("depth_downsampler", DepthDownsampler(width, height))
     builder.Connect(camera.GetOutputPort("depth_image"), downsampler.get_input_port())
-    small = pinhole_camera(scenario.camera).scaled(width, height)
-    info = CameraInfo(width, height, small.fx, small.fy, small.cx, small.cy)
+    info = to_camera_info(pinhole_camera(scenario.camera).scaled(width, height))
     to_cloud = builder.AddNamedSystem(
         "depth_to_point_cloud",
         DepthImageToPointCloud(info, PixelType.kDepth32F, 1.0, BaseField.kXYZs),

@@ -12,12 +12,15 @@ from pathlib import Path
 
 import numpy as np
 
+from hsr_handover.hsr import GRIPPER_MAX_OPENING, MODELS_DIR
 from hsr_handover.human.behavior import ACTIONS
 from hsr_handover.perception.attention import FOCUS_KINDS
 from hsr_handover.scenario import ObjectConfig, Scenario, ScenarioError
 from hsr_handover.scene.object_models import OBJECT_COLORS, OBJECT_SHAPES, object_height
 
-GRIPPER_MAX_WIDTH = 0.12  # m: what the 0.137 m gripper can close around with some margin
+GRIPPER_MAX_WIDTH = round(
+    GRIPPER_MAX_OPENING - 0.017, 3
+)  # m: what the gripper closes around, with margin
 PAYLOAD = 1.2  # kg
 REST_TOLERANCE = 0.005  # m: how far an object's given z may be from resting on the top
 
@@ -47,8 +50,6 @@ def _failer(source: str):
 def resolve_model_path(url: str, scenario_source: str) -> Path | None:
     """The file a model URL names (package://hsr_handover/... or a path relative to the
     scenario file), or None when there is no such file."""
-    from hsr_handover.hsr import MODELS_DIR
-
     prefix = "package://hsr_handover/"
     if url.startswith(prefix):
         path = MODELS_DIR / url.removeprefix(prefix)

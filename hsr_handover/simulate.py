@@ -8,6 +8,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from pydrake.common import RandomGenerator
+from pydrake.geometry import Meshcat
 from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import Context, EventStatus
 
@@ -34,7 +35,7 @@ class RunReport:
         return self.sim_time / self.wall_time if self.wall_time > 0 else float("inf")
 
 
-def prepare_station(scenario: Scenario, with_meshcat: bool) -> tuple[Station, object]:
+def prepare_station(scenario: Scenario, with_meshcat: bool) -> tuple[Station, Meshcat | None]:
     """Build and check the station; returns it with its Meshcat (or None)."""
     meshcat = make_local_meshcat() if with_meshcat else None
     station = build_station(scenario, meshcat)

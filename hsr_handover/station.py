@@ -34,6 +34,7 @@ from hsr_handover.hsr import (
     GRIPPER_JOINT,
     GRIPPER_MIMIC_JOINT,
     TORSO_JOINT,
+    actuated_joint_names,
     add_hsr,
     hsr_desired_state,
 )
@@ -198,11 +199,9 @@ def build_station(scenario: Scenario, meshcat: Meshcat | None = None) -> Station
         "robot_hold_posture", ConstantVectorSource(hsr_desired_state(plant, robot, start))
     )
     builder.Connect(hold.get_output_port(), plant.get_desired_state_input_port(robot))
-    joint_order = [
-        plant.get_joint_actuator(index).joint().name()
-        for index in plant.GetJointActuatorIndices(person)
-    ]
-    actor = builder.AddNamedSystem("human_actor", HumanActor(timeline, joint_order))
+    actor = builder.AddNamedSystem(
+        "human_actor", HumanActor(timeline, actuated_joint_names(plant, person))
+    )
     builder.Connect(actor.get_output_port(), plant.get_desired_state_input_port(person))
 
     scene_graph.AddRenderer(RENDERER, MakeRenderEngineVtk(render_params()))

@@ -11,8 +11,8 @@ from hsr_handover.human.behavior import (
     PEAK_JOINT_SPEED,
     Action,
     PostureTimeline,
-    _head_rotation,
     aim_head,
+    head_rotation,
     posture_changes,
     rest_posture,
     target_posture,
@@ -61,7 +61,7 @@ def test_head_aims_the_line_of_sight_from_the_eyes_at_the_target():
     face = BODY.face_points()
     eyes = (face["r_eye"] + face["l_eye"]) / 2
     for target in _targets_in_front(30, seed=3):
-        rotation = _head_rotation(*aim_head(BODY, target))
+        rotation = head_rotation(*aim_head(BODY, target))
         eye_position = BODY.neck_pivot() + rotation @ eyes
         assert _angle_deg(rotation @ [1.0, 0, 0], target - eye_position) < 0.05
 

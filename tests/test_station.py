@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from pydrake.systems.analysis import Simulator
 
-from hsr_handover.camera import camera_info
+from hsr_handover.camera import pinhole_camera
 from hsr_handover.hsr import PALM_FRAME
 from hsr_handover.scenario import load_scenario
 from hsr_handover.scenario_checks import object_center
@@ -56,15 +56,6 @@ def _table_label(station) -> int:
     return int(labels.pop())
 
 
-def _deproject(depth: np.ndarray, info, X_WC) -> np.ndarray:
-    """Image pixels with their depth to world points (pinhole, camera z forward)."""
-    v, u = np.indices(depth.shape)
-    x = (u - info.center_x()) * depth / info.focal_x()
-    y = (v - info.center_y()) * depth / info.focal_y()
-    points_c = np.stack([x, y, depth], axis=0).reshape(3, -1)
-    return (X_WC.rotation().matrix() @ points_c + X_WC.translation()[:, None]).T
-
-
 def test_depth_image_shows_the_table_top_at_its_height(camera_view):
     station, context = camera_view
     diagram, table = station.diagram, station.scenario.table
@@ -73,8 +64,8 @@ def test_depth_image_shows_the_table_top_at_its_height(camera_view):
     X_WC = diagram.GetOutputPort("camera_pose").Eval(context)
     assert depth.shape == (station.scenario.camera.height, station.scenario.camera.width)
     mask = (labels == _table_label(station)) & np.isfinite(depth)
-    points = _deproject(np.where(mask, depth, 0.0), camera_info(station.scenario.camera), X_WC)
-    points = points[mask.ravel()]
+    camera = pinhole_camera(station.scenario.camera)
+    points = camera.deproject_image(depth, X_WC.GetAsMatrix4())[mask.ravel()]
     # Away from the edges, where the legs (same body, same label) show below the top.
     near_edge, far_edge = table.center[0] - table.size[0] / 2, table.center[0] + table.size[0] / 2
     on_top = points[(points[:, 0] > near_edge + 0.1) & (points[:, 0] < far_edge - 0.1)]

@@ -15,14 +15,19 @@ from hsr_handover.human.body import BodyDimensions
 _EPS = 1e-9
 
 
-def _rot_x(a: float) -> np.ndarray:
+def rot_x(a: float) -> np.ndarray:
     c, s = np.cos(a), np.sin(a)
     return np.array([[1, 0, 0], [0, c, -s], [0, s, c]])
 
 
-def _rot_y(a: float) -> np.ndarray:
+def rot_y(a: float) -> np.ndarray:
     c, s = np.cos(a), np.sin(a)
     return np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]])
+
+
+def rot_z(a: float) -> np.ndarray:
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
 
 
 def _unit(v: np.ndarray) -> np.ndarray:
@@ -72,7 +77,7 @@ def reaching_arm_angles(shoulder_to_target: np.ndarray, body: BodyDimensions) ->
     elbow = upper * (np.cos(beta) * axis + np.sin(beta) * _unit(swing))
     forearm = _unit(axis * distance - elbow)
     pitch, roll = upper_arm_angles(elbow)
-    local = (_rot_y(pitch) @ _rot_x(roll)).T @ forearm
+    local = (rot_y(pitch) @ rot_x(roll)).T @ forearm
     cos_elbow = np.clip(-local[2], -1.0, 1.0)
     elbow_angle = -float(np.arccos(cos_elbow))
     yaw = float(np.arctan2(local[1], local[0])) if abs(elbow_angle) > 1e-6 else 0.0
@@ -84,14 +89,9 @@ def arm_points(body: BodyDimensions, side: str, angles: np.ndarray) -> dict[str,
     forward kinematics that the aiming functions invert (used by tests and by the actor)."""
     pitch, roll, yaw, elbow, _ = angles
     hang = np.array([0.0, 0.0, -1.0])
-    rot_upper = _rot_y(pitch) @ _rot_x(roll) @ _rot_z(yaw)
-    rot_fore = rot_upper @ _rot_y(elbow)
+    rot_upper = rot_y(pitch) @ rot_x(roll) @ rot_z(yaw)
+    rot_fore = rot_upper @ rot_y(elbow)
     shoulder = body.shoulder(side)
     elbow_point = shoulder + body.upper_arm * rot_upper @ hang
     wrist = elbow_point + body.forearm * rot_fore @ hang
     return {"elbow": elbow_point, "wrist": wrist, "hand": wrist + body.hand / 2 * rot_fore @ hang}
-
-
-def _rot_z(a: float) -> np.ndarray:
-    c, s = np.cos(a), np.sin(a)
-    return np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])

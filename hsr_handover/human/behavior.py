@@ -16,6 +16,8 @@ from hsr_handover.human.aiming import (
     head_angles,
     pointing_arm_angles,
     reaching_arm_angles,
+    rot_y,
+    rot_z,
 )
 from hsr_handover.human.body import ARM_JOINT_SUFFIXES, PERSON_JOINTS, BodyDimensions
 
@@ -78,16 +80,14 @@ def aim_head(body: BodyDimensions, point: np.ndarray) -> np.ndarray:
     angles = head_angles(point - pivot)
     # Contracts by about (eye offset / distance) per step: 12 steps suffice down to 0.2 m.
     for _ in range(12):
-        eye_position = pivot + _head_rotation(*angles) @ eyes
+        eye_position = pivot + head_rotation(*angles) @ eyes
         angles = head_angles(point - eye_position)
     return angles
 
 
-def _head_rotation(yaw: float, pitch: float) -> np.ndarray:
-    cy, sy, cp, sp = np.cos(yaw), np.sin(yaw), np.cos(pitch), np.sin(pitch)
-    return np.array([[cy, -sy, 0], [sy, cy, 0], [0, 0, 1]]) @ np.array(
-        [[cp, 0, sp], [0, 1, 0], [-sp, 0, cp]]
-    )
+def head_rotation(yaw: float, pitch: float) -> np.ndarray:
+    """Rotation of the head in the person frame for neck yaw (about z), then pitch (about y)."""
+    return rot_z(yaw) @ rot_y(pitch)
 
 
 def target_posture(body: BodyDimensions, action: Action) -> np.ndarray:

@@ -16,9 +16,14 @@ from collections.abc import Sequence
 
 import numpy as np
 
-FACE_KEYPOINTS = (0, 14, 15, 16, 17)  # nose, eyes, ears (COCO-18)
-NECK = 1
-RIGHT_ARM, LEFT_ARM = (2, 3, 4), (5, 6, 7)  # shoulder, elbow, wrist (COCO-18)
+from hsr_handover.perception.skeleton import FACE_KEYPOINTS, keypoint_index
+
+FACE = tuple(keypoint_index(name) for name in FACE_KEYPOINTS)
+NECK = keypoint_index("neck")
+RIGHT_ARM, LEFT_ARM = (
+    tuple(keypoint_index(f"{side}_{joint}") for joint in ("shoulder", "elbow", "wrist"))
+    for side in "rl"
+)
 FACE_RADIUS = 0.15
 HAND_RADIUS = 0.15
 OBJECT_RADIUS = 0.10
@@ -42,7 +47,7 @@ class AttentionRegion:
 
 def face_region(points: np.ndarray, confidence: np.ndarray) -> AttentionRegion | None:
     """The face from the visible face keypoints (18 x 3 lifted skeleton), or None."""
-    face = [i for i in FACE_KEYPOINTS if confidence[i] > 0 and np.isfinite(points[i]).all()]
+    face = [i for i in FACE if confidence[i] > 0 and np.isfinite(points[i]).all()]
     if not face:
         return None
     return AttentionRegion("face", points[face].mean(axis=0), FACE_RADIUS)

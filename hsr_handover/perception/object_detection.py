@@ -21,7 +21,7 @@ from collections.abc import Mapping
 import cv2
 import numpy as np
 
-from hsr_handover.perception.pinhole import PinholeCamera, to_frame
+from hsr_handover.perception.pinhole import PinholeCamera, to_frame, valid_depth
 from hsr_handover.scene.object_models import OBJECT_COLORS
 
 OK = "ok"
@@ -158,14 +158,9 @@ def _degraded_input_reason(
         )
     if not np.all(np.isfinite(X_WC)):
         return "invalid camera pose"
-    if not np.any(_valid_depth(depth)):
+    if not np.any(valid_depth(depth)):
         return "no valid depth"
     return None
-
-
-def _valid_depth(depth: np.ndarray) -> np.ndarray:
-    # The renderer reports 0 for too near and +inf for too far; real sensors add NaN.
-    return np.isfinite(depth) & (depth > 0)
 
 
 def _color_classes(
@@ -277,7 +272,7 @@ def _surface_depth(box_depth: np.ndarray, blob: np.ndarray) -> float:
         (width - 1) // 2,
     )  # nearest the box centre; halves round up-left
     window = np.s_[max(row - 1, 0) : row + 2, max(column - 1, 0) : column + 2]
-    valid = _valid_depth(box_depth) & blob
+    valid = valid_depth(box_depth) & blob
     if blob[row, column] and np.any(valid[window]):
         return float(np.mean(box_depth[window][valid[window]]))
     if np.any(valid):

@@ -67,7 +67,7 @@ class PinholeCamera:
         v, u = np.indices((height, width), dtype=float)
         pixels = np.stack([u.ravel(), v.ravel()], axis=1)
         depth = depth_image.astype(float).ravel()
-        valid = np.isfinite(depth) & (depth > 0)
+        valid = valid_depth(depth)
         points = self.deproject(pixels, np.where(valid, depth, np.nan), X_WC)
         points[~valid] = np.nan
         return points
@@ -76,6 +76,12 @@ class PinholeCamera:
         """Whether each pixel (N, 2) lies inside the image (its nearest pixel centre exists)."""
         u, v = pixels[:, 0], pixels[:, 1]
         return (u > -0.5) & (u < self.width - 0.5) & (v > -0.5) & (v < self.height - 0.5)
+
+
+def valid_depth(depth: np.ndarray) -> np.ndarray:
+    """Where a depth image (m) holds a measurement: finite and positive (Drake renders +inf
+    beyond range and 0 too near; real sensors add NaN)."""
+    return np.isfinite(depth) & (depth > 0)
 
 
 def to_frame(X_AB: np.ndarray, points_B: np.ndarray) -> np.ndarray:

@@ -26,7 +26,7 @@ from typing import NamedTuple
 import numpy as np
 
 from hsr_handover.human.body import COCO18_KEYPOINTS
-from hsr_handover.perception.pinhole import PinholeCamera
+from hsr_handover.perception.pinhole import PinholeCamera, valid_depth
 
 NUM_KEYPOINTS = len(COCO18_KEYPOINTS)
 FACE_KEYPOINTS = ("nose", "r_eye", "l_eye", "r_ear", "l_ear")
@@ -198,12 +198,6 @@ def checked_depth(depth: np.ndarray, camera: PinholeCamera) -> np.ndarray:
     return depth
 
 
-def valid_depth(depth: np.ndarray) -> np.ndarray:
-    """Where a depth image (m) holds a measurement: finite and positive (Drake renders +inf
-    beyond range and 0 too near)."""
-    return np.isfinite(depth) & (depth > 0)
-
-
 def _pixel_indices(pixels: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Column and row of the pixel nearest each (u, v); callers pass in-image pixels."""
     return np.rint(pixels[:, 0]).astype(int), np.rint(pixels[:, 1]).astype(int)
@@ -258,7 +252,7 @@ def hidden_keypoints(
 
 
 HAND_LENGTH = 0.2  # m: an adult hand, wrist to fingertips
-_WRIST_ELBOW = {4: 3, 7: 6}  # COCO-18 wrist -> elbow
+_WRIST_ELBOW = {keypoint_index(f"{s}_wrist"): keypoint_index(f"{s}_elbow") for s in "rl"}
 
 
 def _foreign_surface(
