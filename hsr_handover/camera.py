@@ -18,13 +18,7 @@ from pydrake.systems.sensors import CameraInfo
 
 from hsr_handover.hsr import CAMERA_FRAME
 from hsr_handover.perception.pinhole import PinholeCamera
-from hsr_handover.scenario import CameraConfig
 from hsr_handover.systems.head_camera import HeadCamera
-
-
-def pinhole_camera(config: CameraConfig) -> PinholeCamera:
-    """The head camera's intrinsics, as the numpy model perception uses."""
-    return PinholeCamera.from_fov_x(config.width, config.height, config.fov_x)
 
 
 def to_camera_info(camera: PinholeCamera) -> CameraInfo:
@@ -32,27 +26,25 @@ def to_camera_info(camera: PinholeCamera) -> CameraInfo:
     return CameraInfo(camera.width, camera.height, camera.fx, camera.fy, camera.cx, camera.cy)
 
 
-def camera_info(config: CameraConfig) -> CameraInfo:
-    """The head camera's intrinsics for Drake's renderer."""
-    return to_camera_info(pinhole_camera(config))
-
-
 def add_head_camera(
     builder: DiagramBuilder,
     plant: MultibodyPlant,
     scene_graph: SceneGraph,
     robot: ModelInstanceIndex,
-    config: CameraConfig,
+    intrinsics: PinholeCamera,
+    depth_range: tuple[float, float],
+    rate_hz: float,
+    render_label: bool,
     renderer: str,
 ) -> HeadCamera:
-    """Mount the head camera on the robot's camera frame, rendering colour, depth and (when
-    configured) labels at `config.rate_hz`; images are held between frames, as a real
-    camera's are."""
+    """Mount the head camera on the robot's camera frame, rendering colour, depth ([near, far]
+    in m) and, when `render_label`, labels at `rate_hz`; images are held between frames, as a
+    real camera's are."""
     frame = plant.GetFrameByName(CAMERA_FRAME, robot)
     parent = plant.GetBodyFrameIdOrThrow(frame.body().index())
-    near, far = config.depth_range
+    near, far = depth_range
     core = RenderCameraCore(
-        renderer, camera_info(config), ClippingRange(0.05, far + 1.0), RigidTransform()
+        renderer, to_camera_info(intrinsics), ClippingRange(0.05, far + 1.0), RigidTransform()
     )
     camera = builder.AddNamedSystem(
         "head_camera",
@@ -61,8 +53,8 @@ def add_head_camera(
             DepthRenderCamera(core, DepthRange(near, far)),
             parent,
             frame.GetFixedPoseInBodyFrame(),
-            config.rate_hz,
-            config.render_label,
+            rate_hz,
+            render_label,
         ),
     )
     builder.Connect(scene_graph.get_query_output_port(), camera.GetInputPort("query_object"))

@@ -20,7 +20,7 @@ from pydrake.systems.framework import Context
 
 from hsr_handover.kinematics.hsr_arm import ARM_JOINT_NAMES
 
-MODELS_DIR = Path(__file__).resolve().parents[1] / "models"
+MODELS_DIR = Path(__file__).resolve().parent / "models"
 PACKAGE_XML = MODELS_DIR / "package.xml"
 PACKAGE_NAME = "hsr_handover"
 HSR_URL = f"package://{PACKAGE_NAME}/hsrb/hsrb.sdf"

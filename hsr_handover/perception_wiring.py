@@ -21,7 +21,7 @@ from pydrake.perception import BaseField, DepthImageToPointCloud
 from pydrake.systems.framework import DiagramBuilder, LeafSystem
 from pydrake.systems.sensors import PixelType
 
-from hsr_handover.camera import pinhole_camera, to_camera_info
+from hsr_handover.camera import to_camera_info
 from hsr_handover.perception.attention import FocusChange
 from hsr_handover.perception.cloud_map import Workspace
 from hsr_handover.perception.skeleton import SkeletonNoise
@@ -62,7 +62,7 @@ def _add_cloud(builder: DiagramBuilder, camera: LeafSystem, scenario: Scenario) 
     width, height = scenario.perception.cloud_size
     downsampler = builder.AddNamedSystem("depth_downsampler", DepthDownsampler(width, height))
     builder.Connect(camera.GetOutputPort("depth_image"), downsampler.get_input_port())
-    info = to_camera_info(pinhole_camera(scenario.camera).scaled(width, height))
+    info = to_camera_info(scenario.camera.pinhole().scaled(width, height))
     to_cloud = builder.AddNamedSystem(
         "depth_to_point_cloud",
         DepthImageToPointCloud(info, PixelType.kDepth32F, 1.0, BaseField.kXYZs),
@@ -82,7 +82,7 @@ def add_perception(
 ) -> None:
     """Add the perception systems and export PERCEPTION_OUTPUTS from the builder."""
     perception, seed = scenario.perception, scenario.simulation.seed
-    image_camera = pinhole_camera(scenario.camera)
+    image_camera = scenario.camera.pinhole()
     to_cloud = _add_cloud(builder, camera, scenario)
 
     detector = builder.AddNamedSystem("object_detector", ObjectDetector(image_camera))

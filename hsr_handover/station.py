@@ -40,8 +40,7 @@ from hsr_handover.hsr import (
 )
 from hsr_handover.human.behavior import Action, PostureTimeline, posture_changes
 from hsr_handover.human.body import PERSON_JOINTS, BodyDimensions
-from hsr_handover.scenario import Scenario, ScenarioError
-from hsr_handover.scenario_checks import object_center, resolve_model_path
+from hsr_handover.scenario import Scenario, ScenarioError, object_center, resolve_model_path
 from hsr_handover.scene.object_models import object_sdf
 from hsr_handover.scene.person_model import person_sdf
 from hsr_handover.scene.table_model import table_sdf
@@ -205,7 +204,11 @@ def build_station(scenario: Scenario, meshcat: Meshcat | None = None) -> Station
     builder.Connect(actor.get_output_port(), plant.get_desired_state_input_port(person))
 
     scene_graph.AddRenderer(RENDERER, MakeRenderEngineVtk(render_params()))
-    camera = add_head_camera(builder, plant, scene_graph, robot, scenario.camera, RENDERER)
+    cam = scenario.camera
+    camera = add_head_camera(
+        builder, plant, scene_graph, robot, cam.pinhole(), cam.depth_range, cam.rate_hz,
+        cam.render_label, RENDERER,
+    )  # fmt: skip
     for name in ("color_image", "depth_image", "label_image"):
         builder.ExportOutput(camera.GetOutputPort(name), f"camera_{name}")
     builder.ExportOutput(camera.GetOutputPort("camera_pose"), "camera_pose")

@@ -14,7 +14,7 @@ from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import DiagramBuilder
 from pydrake.systems.sensors import ImageDepth32F, ImageRgba8U
 
-from hsr_handover.camera import pinhole_camera
+from hsr_handover.perception.object_colors import OBJECT_COLORS
 from hsr_handover.perception.object_detection import (
     DetectionResult,
     DetectorSettings,
@@ -22,7 +22,6 @@ from hsr_handover.perception.object_detection import (
 )
 from hsr_handover.perception.pinhole import PinholeCamera
 from hsr_handover.scenario import load_scenario
-from hsr_handover.scene.object_models import OBJECT_COLORS
 from hsr_handover.station import build_station
 from hsr_handover.systems.object_detector import ObjectDetector
 from tests.conftest import SCENARIOS
@@ -292,7 +291,7 @@ def rendered_scene(request):
     builder = DiagramBuilder()
     station = build_station(scenario)
     builder.AddSystem(station.diagram)
-    detector = builder.AddSystem(ObjectDetector(pinhole_camera(scenario.camera)))
+    detector = builder.AddSystem(ObjectDetector(scenario.camera.pinhole()))
     for station_port, detector_port in (
         ("camera_color_image", "color_image"),
         ("camera_depth_image", "depth_image"),

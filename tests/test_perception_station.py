@@ -11,8 +11,7 @@ import pytest
 from pydrake.systems.analysis import Simulator
 
 from hsr_handover.perception_wiring import PERCEPTION_OUTPUTS
-from hsr_handover.scenario import load_scenario
-from hsr_handover.scenario_checks import object_center
+from hsr_handover.scenario import load_scenario, object_center
 from hsr_handover.station import build_station
 from tests.conftest import SCENARIOS, meshcat_commands
 

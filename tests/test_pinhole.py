@@ -8,7 +8,7 @@ import numpy as np
 from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.systems.sensors import CameraInfo
 
-from hsr_handover.camera import camera_info, pinhole_camera
+from hsr_handover.camera import to_camera_info
 from hsr_handover.perception.pinhole import PinholeCamera
 from hsr_handover.scenario import CameraConfig
 
@@ -20,8 +20,10 @@ def _pose() -> np.ndarray:
 def test_intrinsics_match_drakes_camera_info():
     config = CameraConfig(width=640, height=480, fov_x=1.05)
     fov_y = 2.0 * math.atan(math.tan(config.fov_x / 2.0) * config.height / config.width)
-    ours, drakes = pinhole_camera(config), CameraInfo(config.width, config.height, fov_y)
-    assert abs(camera_info(config).focal_y() - drakes.focal_y()) < 1e-9  # what the renderer gets
+    ours, drakes = config.pinhole(), CameraInfo(config.width, config.height, fov_y)
+    assert (
+        abs(to_camera_info(config.pinhole()).focal_y() - drakes.focal_y()) < 1e-9
+    )  # what the renderer gets
     for mine, theirs in (
         (ours.fx, drakes.focal_x()),
         (ours.fy, drakes.focal_y()),

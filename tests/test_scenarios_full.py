@@ -6,8 +6,7 @@ import numpy as np
 import pytest
 
 from hsr_handover.hsr import PALM_FRAME
-from hsr_handover.scenario import load_scenario
-from hsr_handover.scenario_checks import object_center
+from hsr_handover.scenario import load_scenario, object_center
 from hsr_handover.simulate import run_scenario
 from tests.conftest import bundled_scenarios
 

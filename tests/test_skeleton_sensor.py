@@ -12,8 +12,7 @@ from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.systems.analysis import Simulator
 from pydrake.systems.sensors import ImageDepth32F
 
-from hsr_handover.camera import pinhole_camera
-from hsr_handover.human.body import COCO18_KEYPOINTS
+from hsr_handover.perception.coco18 import COCO18_KEYPOINTS
 from hsr_handover.perception.openpose_json import (
     read_openpose_frames,
     read_openpose_json,
@@ -32,8 +31,7 @@ from hsr_handover.perception.skeleton import (
     lift_keypoints,
     simulate_keypoints,
 )
-from hsr_handover.scenario import load_scenario
-from hsr_handover.scenario_checks import object_center
+from hsr_handover.scenario import load_scenario, object_center
 from hsr_handover.station import build_station
 from hsr_handover.systems.skeleton_sensor import RecordedSkeletonSource, SkeletonSensor
 from tests.conftest import SCENARIOS
@@ -248,7 +246,7 @@ def _sensor_context(sensor, inputs: dict, time: float = 3.0):
 
 
 def _sensor(station, noise=None, seed=0) -> SkeletonSensor:
-    camera = pinhole_camera(station.scenario.camera)
+    camera = station.scenario.camera.pinhole()
     return SkeletonSensor(station.plant, station.person, camera, noise, seed)
 
 
@@ -270,7 +268,7 @@ def test_sensor_is_reproducible_per_frame(pointing_scene):
 
 def test_sensor_sees_the_pointing_arm_where_it_is(pointing_scene):
     station, inputs, truth = pointing_scene
-    camera = pinhole_camera(station.scenario.camera)
+    camera = station.scenario.camera.pinhole()
     sensor = _sensor(station, SkeletonNoise(face_drop_probability=0.0))
     skeleton = sensor.GetOutputPort("skeleton").Eval(_sensor_context(sensor, inputs))
     assert skeleton.status == "ok"
@@ -318,7 +316,7 @@ def test_recorded_detections_replay_through_the_same_lifting(pointing_scene, tmp
     live = sensor.GetOutputPort("skeleton").Eval(_sensor_context(sensor, inputs))
     path = tmp_path / "frame.json"
     write_openpose_json(path, [live.detection()])
-    camera = pinhole_camera(station.scenario.camera)
+    camera = station.scenario.camera.pinhole()
     source = RecordedSkeletonSource(read_openpose_frames([path]), 10.0, camera)
     replay_inputs = {k: v for k, v in inputs.items() if k != "body_poses"}
     port = source.GetOutputPort("skeleton")

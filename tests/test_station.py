@@ -7,10 +7,8 @@ import numpy as np
 import pytest
 from pydrake.systems.analysis import Simulator
 
-from hsr_handover.camera import pinhole_camera
 from hsr_handover.hsr import PALM_FRAME
-from hsr_handover.scenario import load_scenario
-from hsr_handover.scenario_checks import object_center
+from hsr_handover.scenario import load_scenario, object_center
 from hsr_handover.station import build_station, check_initial_clearance
 from tests.conftest import SCENARIOS
 
@@ -64,7 +62,7 @@ def test_depth_image_shows_the_table_top_at_its_height(camera_view):
     X_WC = diagram.GetOutputPort("camera_pose").Eval(context)
     assert depth.shape == (station.scenario.camera.height, station.scenario.camera.width)
     mask = (labels == _table_label(station)) & np.isfinite(depth)
-    camera = pinhole_camera(station.scenario.camera)
+    camera = station.scenario.camera.pinhole()
     points = camera.deproject_image(depth, X_WC.GetAsMatrix4())[mask.ravel()]
     # Away from the edges, where the legs (same body, same label) show below the top.
     near_edge, far_edge = table.center[0] - table.size[0] / 2, table.center[0] + table.size[0] / 2

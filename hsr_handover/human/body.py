@@ -26,12 +26,6 @@ PERSON_JOINTS = (
     *(f"l_{suffix}" for suffix in ARM_JOINT_SUFFIXES),
 )
 
-# OpenPose COCO-18 keypoints in order; each is a frame named "coco_<name>" in the person model.
-COCO18_KEYPOINTS = (
-    "nose", "neck", "r_shoulder", "r_elbow", "r_wrist", "l_shoulder", "l_elbow", "l_wrist",
-    "r_hip", "r_knee", "r_ankle", "l_hip", "l_knee", "l_ankle", "r_eye", "l_eye", "r_ear", "l_ear",
-)  # fmt: skip
-
 
 def side_sign(side: str) -> float:
     """+1 for the person's left, -1 for the right (y points to the person's left)."""

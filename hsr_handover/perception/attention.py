@@ -16,7 +16,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from hsr_handover.perception.skeleton import FACE_KEYPOINTS, keypoint_index
+from hsr_handover.perception.coco18 import FACE_KEYPOINTS, keypoint_index
 
 FACE = tuple(keypoint_index(name) for name in FACE_KEYPOINTS)
 NECK = keypoint_index("neck")

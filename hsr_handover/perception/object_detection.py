@@ -21,8 +21,8 @@ from collections.abc import Mapping
 import cv2
 import numpy as np
 
+from hsr_handover.perception.object_colors import OBJECT_COLORS
 from hsr_handover.perception.pinhole import PinholeCamera, to_frame, valid_depth
-from hsr_handover.scene.object_models import OBJECT_COLORS
 
 OK = "ok"
 _NO_CLASS = 255  # class-image value of pixels outside every colour window

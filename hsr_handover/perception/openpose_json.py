@@ -18,7 +18,8 @@ from typing import IO, Protocol
 
 import numpy as np
 
-from hsr_handover.perception.skeleton import NUM_KEYPOINTS, Detection
+from hsr_handover.perception.coco18 import NUM_KEYPOINTS
+from hsr_handover.perception.skeleton import Detection
 
 OPENPOSE_VERSION = 1.3
 _VALUES_PER_PERSON = 3 * NUM_KEYPOINTS

@@ -25,18 +25,17 @@ from typing import NamedTuple
 
 import numpy as np
 
-from hsr_handover.human.body import COCO18_KEYPOINTS
+from hsr_handover.perception.coco18 import (
+    COCO18_KEYPOINTS,
+    COCO18_LIMBS,
+    FACE_KEYPOINTS,
+    NUM_KEYPOINTS,
+    keypoint_index,
+)
 from hsr_handover.perception.pinhole import PinholeCamera, valid_depth
 
-NUM_KEYPOINTS = len(COCO18_KEYPOINTS)
-FACE_KEYPOINTS = ("nose", "r_eye", "l_eye", "r_ear", "l_ear")
 _FACE_INDICES = np.array([COCO18_KEYPOINTS.index(name) for name in FACE_KEYPOINTS])
 
-# OpenPose's COCO-18 limbs (keypoint index pairs), the bones drawn between keypoints.
-COCO18_LIMBS = (
-    (1, 2), (1, 5), (2, 3), (3, 4), (5, 6), (6, 7), (1, 8), (8, 9), (9, 10),
-    (1, 11), (11, 12), (12, 13), (1, 0), (0, 14), (14, 16), (0, 15), (15, 17),
-)  # fmt: skip
 
 STATUS_OK = "ok"
 NOT_IN_VIEW = "person not in view"
@@ -75,13 +74,6 @@ def _freeze_keypoint_arrays(instance, widths: dict[str, int]) -> None:
 
 def _no_keypoints(width: int) -> np.ndarray:
     return np.full((NUM_KEYPOINTS, width), np.nan)
-
-
-def keypoint_index(name: str) -> int:
-    """Index of a COCO-18 keypoint by name (e.g. "r_wrist" -> 4)."""
-    if name not in COCO18_KEYPOINTS:
-        raise ValueError(f"keypoint: expected one of {COCO18_KEYPOINTS}, got {name!r}")
-    return COCO18_KEYPOINTS.index(name)
 
 
 @dataclasses.dataclass(frozen=True)

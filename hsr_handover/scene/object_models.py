@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+from hsr_handover.perception.object_colors import OBJECT_COLORS
 from hsr_handover.scene.sdf_shapes import (
     box_geometry,
     box_inertia,
@@ -15,15 +16,6 @@ from hsr_handover.scene.sdf_shapes import (
     shape,
 )
 
-OBJECT_COLORS: dict[str, tuple[float, float, float]] = {
-    "red": (0.85, 0.08, 0.08),
-    "green": (0.10, 0.70, 0.15),
-    "blue": (0.10, 0.20, 0.85),
-    "yellow": (0.95, 0.85, 0.05),
-    "purple": (0.50, 0.10, 0.70),
-    "cyan": (0.05, 0.75, 0.80),
-    "magenta": (0.90, 0.10, 0.65),
-}
 OBJECT_SHAPES = {"cup": 2, "box": 3}  # shape -> number of size values
 OBJECT_FRICTION = 1.0
 

@@ -9,6 +9,7 @@ from pydrake.math import RigidTransform
 from pydrake.systems.framework import Context, LeafSystem
 from pydrake.systems.sensors import ImageDepth32F, ImageRgba8U
 
+from hsr_handover.perception.object_colors import OBJECT_COLORS
 from hsr_handover.perception.object_detection import (
     DetectionResult,
     DetectorSettings,
@@ -16,7 +17,6 @@ from hsr_handover.perception.object_detection import (
     detect_objects,
 )
 from hsr_handover.perception.pinhole import PinholeCamera
-from hsr_handover.scene.object_models import OBJECT_COLORS
 
 
 class ObjectDetector(LeafSystem):

@@ -20,7 +20,7 @@ from pydrake.multibody.tree import ModelInstanceIndex
 from pydrake.systems.framework import Context, LeafSystem
 from pydrake.systems.sensors import ImageDepth32F
 
-from hsr_handover.human.body import COCO18_KEYPOINTS
+from hsr_handover.perception.coco18 import COCO18_KEYPOINTS
 from hsr_handover.perception.pinhole import PinholeCamera
 from hsr_handover.perception.skeleton import (
     STATUS_OK,

@@ -15,8 +15,9 @@ import numpy as np
 from hsr_handover.hsr import GRIPPER_MAX_OPENING, MODELS_DIR
 from hsr_handover.human.behavior import ACTIONS
 from hsr_handover.perception.attention import FOCUS_KINDS
-from hsr_handover.scenario import ObjectConfig, Scenario, ScenarioError
-from hsr_handover.scene.object_models import OBJECT_COLORS, OBJECT_SHAPES, object_height
+from hsr_handover.perception.object_colors import OBJECT_COLORS
+from hsr_handover.scenario.schema import ObjectConfig, Scenario, ScenarioError
+from hsr_handover.scene.object_models import OBJECT_SHAPES, object_height
 
 GRIPPER_MAX_WIDTH = round(
     GRIPPER_MAX_OPENING - 0.017, 3

@@ -1,4 +1,4 @@
-"""Scenario files: typed dataclasses loaded with Drake's `yaml_load_typed` (the `Scenario` +
+"""The scenario schema: typed dataclasses that Drake's `yaml_load_typed` fills (the `Scenario` +
 `load_scenario` pattern of the manipulation course). No `from __future__ import annotations`
 here: Drake's YAML loader reads the field types at run time and needs them as real types.
 
@@ -8,13 +8,9 @@ Left and right in scenario names are as the *person* sees them.
 
 import dataclasses
 from dataclasses import field
-from pathlib import Path
-
-import yaml
-from pydrake.common.yaml import yaml_load_typed
 
 from hsr_handover.perception.cloud_map import SCENE_GNG_PARAMS
-from hsr_handover.typed_yaml import SchemaMismatch, check_against_schema
+from hsr_handover.perception.pinhole import PinholeCamera
 
 
 class ScenarioError(ValueError):
@@ -119,6 +115,10 @@ class CameraConfig:
     depth_range: list[float] = field(default_factory=lambda: [0.35, 4.0])
     render_label: bool = True
 
+    def pinhole(self) -> PinholeCamera:
+        """The intrinsics as the numpy pinhole model perception uses."""
+        return PinholeCamera.from_fov_x(self.width, self.height, self.fov_x)
+
 
 @dataclasses.dataclass
 class GngConfig:
@@ -188,33 +188,3 @@ class Scenario:
     simulation: SimulationConfig = field(default_factory=SimulationConfig)
     # Where the scenario came from, for error messages and relative model paths; not in YAML.
     source: str = "<scenario>"
-
-
-def load_scenario(filename: str | Path) -> Scenario:
-    """Load and check a scenario file. Raises ScenarioError naming the file, key and expectation.
-
-    Checks here need only the file; checks that need the built scene (the person or the robot
-    intersecting the table) run in `station.check_initial_clearance`.
-    """
-    from hsr_handover.scenario_checks import check_scenario
-
-    path = Path(filename)
-    name = str(filename)
-    if not path.is_file():
-        raise ScenarioError(name, "(file)", "expected an existing scenario YAML file")
-    try:
-        raw = yaml.safe_load(path.read_text())
-    except yaml.YAMLError as error:
-        mark = getattr(error, "problem_mark", None)
-        where = f"line {mark.line + 1}" if mark else "(file)"
-        raise ScenarioError(name, where, "expected valid YAML") from None
-    try:
-        check_against_schema(raw if raw is not None else {}, Scenario)
-    except SchemaMismatch as error:
-        raise ScenarioError(name, error.key_path, error.expected) from None
-    if raw is not None and "source" in raw:
-        raise ScenarioError(name, "source", "unknown key; it is set by the loader")
-    scenario = yaml_load_typed(schema=Scenario, filename=str(path), defaults=Scenario())
-    scenario.source = name
-    check_scenario(scenario)
-    return scenario
