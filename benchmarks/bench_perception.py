@@ -76,7 +76,7 @@ def _stage_times(repeats: int) -> dict[str, float]:
 
     def learn():
         learn_frame(fresh[0], points, workspace, regions, perception.signals_per_frame,
-                    perception.attention_gain)  # fmt: skip
+                    perception.attention_weight)  # fmt: skip
 
     return {
         "cloud: downsample 640x480 -> 200x200": stage("depth_downsampler", "depth_image"),

@@ -109,7 +109,7 @@ def add_perception(
         "point_cloud_gng",
         PointCloudGng(
             _gng_params(scenario), workspace, 1.0 / scenario.camera.rate_hz,
-            perception.signals_per_frame, perception.attention_gain, seed,
+            perception.signals_per_frame, perception.attention_weight, seed,
         ),
     )  # fmt: skip
     builder.Connect(to_cloud.point_cloud_output_port(), gng.GetInputPort("point_cloud"))

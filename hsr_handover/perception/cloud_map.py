@@ -14,7 +14,11 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from hsr_handover.perception.attention import DEFAULT_GAIN, AttentionRegion, attention_weights
+from hsr_handover.perception.attention import (
+    DEFAULT_ATTENTION_WEIGHT,
+    AttentionRegion,
+    attention_weights,
+)
 from hsr_handover.topology.growing_neural_gas import GrowingNeuralGas
 
 # The adaptive settings that reach the paper's ~4x attention density (see bench_topology):
@@ -23,6 +27,10 @@ SCENE_GNG_PARAMS = dict(
     max_nodes=300, lam=100, mu1=0.05, mu2=0.006, mu3=0.0, a_max=50, alpha=0.5,
     beta=5e-5, e_min=0.07,
 )  # fmt: skip
+
+
+SIGNALS_PER_FRAME = 5000
+"""GNG signals learnt from each camera frame (at 30 Hz, 150,000 a second)."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -82,15 +90,15 @@ def learn_frame(
     points: np.ndarray,
     workspace: Workspace,
     regions: Sequence[AttentionRegion] = (),
-    n_signals: int = 5000,
-    gain: float = DEFAULT_GAIN,
+    n_signals: int = SIGNALS_PER_FRAME,
+    attention_weight: float = DEFAULT_ATTENTION_WEIGHT,
 ) -> FrameReport:
     """Update `gng` from one frame of world points (N, 3); NaN rows (no depth) are skipped."""
     cropped = workspace.crop(np.asarray(points, dtype=float).reshape(-1, 3))
     if len(cropped) == 0:
         status = "empty point cloud" if len(points) == 0 else "no points in the workspace"
         return _report(gng, 0, float("nan"), status)
-    weights = attention_weights(cropped, regions, gain) if regions else None
+    weights = attention_weights(cropped, regions, attention_weight) if regions else None
     gng.partial_fit(cropped, n_signals=n_signals, weights=weights)
     _, distances = gng.nearest(cropped, return_distance=True)
     return _report(gng, len(cropped), float(np.mean(distances)))

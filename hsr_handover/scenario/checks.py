@@ -232,8 +232,9 @@ def _check_perception(scenario: Scenario, fail) -> None:
     if len(box) != 6 or not all(lo < hi for lo, hi in zip(box[:3], box[3:], strict=True)):
         fail("perception.workspace", f"expected [x, y, z lower, x, y, z upper], got {box}")
     _positive(fail, "perception.signals_per_frame", perception.signals_per_frame)
-    if not perception.attention_gain >= 1:
-        fail("perception.attention_gain", f"expected a gain >= 1, got {perception.attention_gain}")
+    if not perception.attention_weight >= 1:
+        weight = perception.attention_weight
+        fail("perception.attention_weight", f"expected a sampling weight >= 1, got {weight}")
     if not 0 <= perception.face_drop_probability <= 1:
         fail("perception.face_drop_probability", "expected a probability in [0, 1]")
     if not perception.pixel_sigma >= 0:

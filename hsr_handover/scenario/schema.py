@@ -9,7 +9,8 @@ Left and right in scenario names are as the *person* sees them.
 import dataclasses
 from dataclasses import field
 
-from hsr_handover.perception.cloud_map import SCENE_GNG_PARAMS
+from hsr_handover.perception.attention import DEFAULT_ATTENTION_WEIGHT
+from hsr_handover.perception.cloud_map import SCENE_GNG_PARAMS, SIGNALS_PER_FRAME
 from hsr_handover.perception.pinhole import PinholeCamera
 
 
@@ -151,15 +152,15 @@ class PerceptionConfig:
     """The robot's perception, off unless `enabled`: the head camera's depth is downsampled to
     `cloud_size` [width, height] (the paper's 200 x 200), lifted to a world point cloud, cropped
     to `workspace` [x, y, z lower, x, y, z upper] (m) and learnt by the scene GNG with
-    `signals_per_frame` signals per camera frame; attended regions are sampled `attention_gain`
+    `signals_per_frame` signals per camera frame; attended regions are sampled `attention_weight`
     times more often. The skeleton sensor adds `pixel_sigma` pixels of noise and drops each
     face keypoint with `face_drop_probability`."""
 
     enabled: bool = False
     cloud_size: list[int] = field(default_factory=lambda: [200, 200])
     workspace: list[float] = field(default_factory=lambda: [0.3, -1.0, 0.05, 2.4, 1.0, 2.0])
-    signals_per_frame: int = 5000
-    attention_gain: float = 16.0
+    signals_per_frame: int = SIGNALS_PER_FRAME
+    attention_weight: float = DEFAULT_ATTENTION_WEIGHT
     attention: list[FocusConfig] = field(default_factory=list)
     gng: GngConfig = field(default_factory=GngConfig)
     pixel_sigma: float = 2.0

@@ -6,7 +6,9 @@ from pydrake.common.value import AbstractValue
 from pydrake.perception import PointCloud
 from pydrake.systems.framework import BasicVector, Context, LeafSystem, State
 
+from hsr_handover.perception.attention import DEFAULT_ATTENTION_WEIGHT
 from hsr_handover.perception.cloud_map import (
+    SIGNALS_PER_FRAME,
     FrameReport,
     GraphSnapshot,
     Workspace,
@@ -35,12 +37,13 @@ class PointCloudGng(LeafSystem):
         gng_params: dict,
         workspace: Workspace,
         period: float,
-        n_signals: int = 5000,
-        gain: float = 16.0,
+        n_signals: int = SIGNALS_PER_FRAME,
+        attention_weight: float = DEFAULT_ATTENTION_WEIGHT,
         seed: int = 0,
     ):
         super().__init__()
-        self._workspace, self._n_signals, self._gain = workspace, n_signals, gain
+        self._workspace, self._n_signals = workspace, n_signals
+        self._attention_weight = attention_weight
         self._cloud = self.DeclareAbstractInputPort("point_cloud", AbstractValue.Make(PointCloud()))
         self._attention = self.DeclareAbstractInputPort("attention", AbstractValue.Make(()))
         learner = GrowingNeuralGas(**gng_params, random_state=seed)
@@ -58,7 +61,12 @@ class PointCloudGng(LeafSystem):
         cloud: PointCloud = self._cloud.Eval(context)
         regions = self._attention.Eval(context) if self._attention.HasValue(context) else ()
         report = learn_frame(
-            learner, cloud.xyzs().T, self._workspace, regions, self._n_signals, self._gain
+            learner,
+            cloud.xyzs().T,
+            self._workspace,
+            regions,
+            self._n_signals,
+            self._attention_weight,
         )
         state.get_mutable_abstract_state(self._report).set_value(report)
         graph = GraphSnapshot.of(learner, context.get_time())
