@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import pytest
-from pydrake.geometry import SceneGraph
+from pydrake.geometry import Box, SceneGraph
 from pydrake.math import RigidTransform
 from pydrake.multibody.parsing import Parser
 from pydrake.multibody.plant import AddMultibodyPlantSceneGraph, MultibodyPlant
@@ -305,3 +305,34 @@ def test_set_positions_keeps_couplings(robot: Robot) -> None:
     assert robot.position("hand_r_finger_joint") == pytest.approx(0.05)
     assert robot.position(GRIPPER_JOINT) == pytest.approx(0.05)
     assert robot.position("base_x_joint") == pytest.approx(1.5)
+
+
+def box_extents(robot: Robot, geometry: str, role: str) -> tuple[np.ndarray, np.ndarray]:
+    """Lower and upper corners, in the head_tilt_link frame, of the box ``geometry`` (visual or
+    collision) on that link: the axis-aligned bounds of its eight corners."""
+    plant, inspector = robot.plant, robot.scene_graph.model_inspector()
+    body = plant.GetBodyByName("head_tilt_link", robot.instance)
+    by_role = {
+        "visual": plant.GetVisualGeometriesForBody,
+        "collision": plant.GetCollisionGeometriesForBody,
+    }
+    ids = by_role[role](body)
+    (found,) = [g for g in ids if inspector.GetName(g).endswith(f"::{geometry}_{role}")]
+    shape = inspector.GetShape(found)
+    assert isinstance(shape, Box)
+    signs = np.array(np.meshgrid([-1, 1], [-1, 1], [-1, 1])).reshape(3, -1)
+    corners = inspector.GetPoseInFrame(found).multiply(0.5 * shape.size()[:, None] * signs)
+    return corners.min(axis=1), corners.max(axis=1)
+
+
+@pytest.mark.parametrize("role", ["visual", "collision"])
+def test_sensor_bar_sits_on_head(robot: Robot, role: str) -> None:
+    bar_low, bar_high = box_extents(robot, "sensor_bar", role)
+    head_low, head_high = box_extents(robot, "head", role)
+    # Touching or overlapping along every axis: the bar does not float above the head.
+    assert np.all(bar_low <= head_high + 1e-9) and np.all(head_low <= bar_high + 1e-9)
+    # It sits on top, and the camera's optical centre is inside the bar.
+    assert bar_high[2] > head_high[2]
+    camera = robot.plant.GetFrameByName(CAMERA_FRAME, robot.instance)
+    origin = camera.GetFixedPoseInBodyFrame().translation()
+    assert np.all(bar_low <= origin) and np.all(origin <= bar_high)
