@@ -90,7 +90,10 @@ class _ProgressBar:
         self._last_tenth = -1
 
     def __call__(self, now: float, total: float) -> None:
-        done = now >= total
+        # The runner adds up float steps and may stop a rounding error short of the total
+        # (0.09 s a hundred times is 8.99999999999999 s): that last call is the end all the same.
+        done = now >= total - 1e-9 * max(total, 1.0)
+        now = total if done else now
         tenth = int(10 * now / total)
         if not self._interactive and tenth == self._last_tenth and not done:
             return
@@ -106,7 +109,7 @@ class _ProgressBar:
 
 def _run(args: argparse.Namespace) -> int:
     from hsr_handover.scenario import load_scenario
-    from hsr_handover.simulate import run_scenario
+    from hsr_handover.simulation import run_scenario
 
     scenario = load_scenario(args.scenario)
     _apply_overrides(scenario, args)
@@ -121,10 +124,10 @@ def _run(args: argparse.Namespace) -> int:
 
 def _validate(args: argparse.Namespace) -> int:
     from hsr_handover.scenario import load_scenario
-    from hsr_handover.simulate import prepare_station
+    from hsr_handover.simulation import prepare_simulation
 
     scenario = load_scenario(args.scenario)
-    prepare_station(scenario, with_meshcat=False)
+    prepare_simulation(scenario, with_meshcat=False)
     print(
         f"ok: {args.scenario} ({len(scenario.objects)} objects, "
         f"{len(scenario.person.behavior)} actions, {scenario.simulation.duration:g} s)"
@@ -134,7 +137,12 @@ def _validate(args: argparse.Namespace) -> int:
 
 def _attention(args: argparse.Namespace) -> int:
     from hsr_handover.experiments.attention import run_attention
-    from hsr_handover.experiments.attention_report import plot, write_csv, write_json
+    from hsr_handover.experiments.attention_report import (
+        plot,
+        summary_lines,
+        write_csv,
+        write_json,
+    )
     from hsr_handover.scenario import load_scenario
 
     scenario = load_scenario(args.scenario)
@@ -152,16 +160,7 @@ def _attention(args: argparse.Namespace) -> int:
     for name, path in outputs.items():
         if path is not None:
             writers[name](result, path)
-    print(f"density ratio (attended human region / rest): {result.density_ratio:.2f}")
-    print(f"node count settles after a shift (slowest):   {result.settle_time_s:.2f} s")
-    print(f"attended region settles (slowest):            {result.region_settle_time_s:.2f} s")
-    for phase in result.phases:
-        print(
-            f"  {phase.focus:6s} {phase.target:10s} from {phase.start:4.1f} s: "
-            f"{phase.node_count:3d} nodes, attended ratio {phase.attended_ratio:5.2f} "
-            f"(gain {phase.attention_gain:4.2f}), count settled in {phase.settle_time_s:.2f} s, "
-            f"region in {phase.region_settle_time_s:.2f} s"
-        )
+    print("\n".join(summary_lines(result)))  # n/a where the JSON has null
     print(f"wall time {report.wall_time:.1f} s, real-time factor {report.real_time_factor:.2f}")
     for path in (*outputs.values(), replay):
         if path is not None:

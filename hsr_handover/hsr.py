@@ -30,12 +30,16 @@ CAMERA_FRAME = "head_rgbd_sensor_frame"
 BASE_JOINTS = ("base_x_joint", "base_y_joint", "base_yaw_joint")
 ARM_JOINTS = ARM_JOINT_NAMES
 HEAD_JOINTS = ("head_pan_joint", "head_tilt_joint")
+COMMANDED_JOINTS = (*BASE_JOINTS, *ARM_JOINTS, *HEAD_JOINTS)
+"""The joints the robot commands by position and velocity (the gripper is commanded apart)."""
 TORSO_JOINT = "torso_lift_joint"
 GRIPPER_JOINT = "hand_l_finger_joint"
 GRIPPER_MIMIC_JOINT = "hand_r_finger_joint"
 GRIPPER_KEY = "gripper"
 GRIPPER_MAX_OPENING = 0.137
-"""Largest distance between the fingertips (m); each finger travels half of it."""
+"""Largest distance between the fingertips (m)."""
+FINGER_PER_OPENING = 0.5
+"""Each finger travels half the opening between the fingertips."""
 
 
 def add_hsr(

@@ -1,11 +1,21 @@
-"""`hsr-handover run` end to end, as a user runs it: a replay that holds the recording."""
+"""`hsr-handover run` and `attention` end to end, as a user runs them: a replay that holds the
+recording; a progress bar that ends at the duration; n/a, not nan, where the JSON has null."""
 
 from __future__ import annotations
 
+import io
+import json
+import math
 import subprocess
 import sys
 
+import pytest
+
+from hsr_handover.cli import _ProgressBar
+from hsr_handover.experiments.attention_report import format_value
 from tests.conftest import SCENARIOS, meshcat_commands
+
+FULL_BAR = "[" + "#" * 30 + "]"
 
 
 def test_run_writes_a_replay_holding_the_recording(tmp_path):
@@ -41,3 +51,54 @@ def test_run_writes_a_replay_holding_the_recording(tmp_path):
     clip = animation["animations"][0]["clip"]
     assert clip["fps"] == 20 and max(key["time"] for key in clip["tracks"][0]["keys"]) >= 5
     assert not list(tmp_path.glob(".*.tmp"))  # no temporary left behind
+
+
+class _Terminal(io.StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+@pytest.mark.parametrize("terminal", [False, True])
+def test_progress_bar_ends_full_when_the_runner_stops_short(monkeypatch, terminal: bool) -> None:
+    stderr = _Terminal() if terminal else io.StringIO()
+    monkeypatch.setattr(sys, "stderr", stderr)
+    bar = _ProgressBar()
+    now, duration = 0.0, 9.0
+    while now < duration - 1e-12:  # the runner's loop: it stops at 8.99999999999999 s
+        now = min(now + 0.09, duration)
+        bar(now, duration)
+    assert now < duration
+    last = stderr.getvalue().replace("\r", "\n").rstrip("\n").splitlines()[-1]
+    assert last == f"{FULL_BAR}   9.00 / 9.00 s simulated"
+    assert stderr.getvalue().endswith("\n")
+
+
+@pytest.mark.parametrize(
+    ("value", "spec", "unit", "text"),
+    [
+        (1.234, "5.2f", "", " 1.23"),
+        (0.5, ".2f", " s", "0.50 s"),
+        (math.nan, "5.2f", "", "  n/a"),
+        (math.nan, ".2f", " s", "n/a"),
+        (math.inf, "4.2f", "", " n/a"),
+    ],
+)
+def test_undefined_values_read_n_a(value: float, spec: str, unit: str, text: str) -> None:
+    assert format_value(value, spec, unit) == text
+
+
+def test_attention_summary_says_n_a_where_the_json_has_null(tmp_path) -> None:
+    summary = tmp_path / "a.json"
+    # 0.2 s: the runner's float steps stop just short of it, as they do of the full 9 s.
+    result = subprocess.run(
+        [sys.executable, "-m", "hsr_handover.cli", "attention",
+         str(SCENARIOS / "attention_shift.yaml"), "--duration", "0.2", "--json", str(summary)],
+        capture_output=True, text=True, timeout=300, check=False,
+    )  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    assert f"{FULL_BAR}   0.20 / 0.20 s simulated" in result.stderr
+    assert "nan" not in result.stdout.lower()
+    unattended = json.loads(summary.read_text())["phases"][0]
+    assert unattended["focus"] == "none" and unattended["attended_ratio"] is None
+    (line,) = [line for line in result.stdout.splitlines() if line.startswith("  none")]
+    assert "attended ratio   n/a (gain  n/a)" in line

@@ -22,7 +22,7 @@ from hsr_handover.perception.object_detection import (
 )
 from hsr_handover.perception.pinhole import PinholeCamera
 from hsr_handover.scenario import load_scenario
-from hsr_handover.station import build_station
+from hsr_handover.simulation import add_station_and_robot
 from hsr_handover.systems.object_detector import ObjectDetector
 from tests.conftest import SCENARIOS
 
@@ -289,8 +289,7 @@ def rendered_scene(request):
     scenario = load_scenario(SCENARIOS / name)
     scenario.robot.base_pose = [base_x, 0.0, 0.0]
     builder = DiagramBuilder()
-    station = build_station(scenario)
-    builder.AddSystem(station.diagram)
+    station, _ = add_station_and_robot(builder, scenario)
     detector = builder.AddSystem(ObjectDetector(scenario.camera.pinhole()))
     for station_port, detector_port in (
         ("camera_color_image", "color_image"),

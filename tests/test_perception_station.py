@@ -1,4 +1,4 @@
-"""Perception wired into the station, end to end: the robot's percepts of a rendered scene."""
+"""The robot's perception beside the station, end to end: its percepts of a rendered scene."""
 
 from __future__ import annotations
 
@@ -10,19 +10,19 @@ import numpy as np
 import pytest
 from pydrake.systems.analysis import Simulator
 
-from hsr_handover.perception_wiring import PERCEPTION_OUTPUTS
+from hsr_handover.robot import PERCEPTION_OUTPUTS
 from hsr_handover.scenario import load_scenario, object_center
-from hsr_handover.station import build_station
+from hsr_handover.simulation import build_simulation
 from tests.conftest import SCENARIOS, meshcat_commands
 
 
 def _perceive(scenario, until: float):
-    station = build_station(scenario)
-    simulator = Simulator(station.diagram)
+    simulation = build_simulation(scenario)
+    simulator = Simulator(simulation.diagram)
     simulator.AdvanceTo(until)
-    context = simulator.get_context()
-    return station, {name: station.diagram.GetOutputPort(name).Eval(context)
-                     for name in PERCEPTION_OUTPUTS}  # fmt: skip
+    robot, context = simulation.robot.diagram, simulation.robot_context(simulator.get_context())
+    percepts = {name: robot.GetOutputPort(name).Eval(context) for name in PERCEPTION_OUTPUTS}
+    return simulation.station, percepts
 
 
 @pytest.fixture(scope="module")

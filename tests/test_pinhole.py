@@ -8,9 +8,9 @@ import numpy as np
 from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.systems.sensors import CameraInfo
 
-from hsr_handover.camera import to_camera_info
 from hsr_handover.perception.pinhole import PinholeCamera
 from hsr_handover.scenario import CameraConfig
+from hsr_handover.systems.head_camera import to_camera_info
 
 
 def _pose() -> np.ndarray:

@@ -5,8 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from pydrake.common.value import AbstractValue
 from pydrake.perception import PointCloud
 from pydrake.systems.analysis import Simulator
+from pydrake.systems.framework import DiagramBuilder, LeafSystem
 from pydrake.systems.sensors import ImageDepth32F
 
 from hsr_handover.perception.attention import AttentionRegion, FocusChange
@@ -18,7 +20,7 @@ from hsr_handover.perception.cloud_map import (
 )
 from hsr_handover.systems.attention_focus import AttentionFocus
 from hsr_handover.systems.depth_downsampler import DepthDownsampler
-from hsr_handover.systems.point_cloud_gng import STATS, PointCloudGng
+from hsr_handover.systems.point_cloud_gng import LEARNING_DELAY_S, STATS, PointCloudGng
 from hsr_handover.topology.growing_neural_gas import GrowingNeuralGas
 
 WORKSPACE = Workspace((0.0, -1.0, 0.0), (2.0, 1.0, 2.0))
@@ -75,10 +77,69 @@ def test_point_cloud_gng_learns_at_its_rate_and_outputs_the_graph():
     Simulator(system, context).AdvanceTo(1.01)  # ticks at 0.0, 0.1, ..., 1.0
     graph: GraphSnapshot = system.GetOutputPort("graph").Eval(context)
     stats = dict(zip(STATS, system.GetOutputPort("stats").Eval(context), strict=True))
-    assert graph.time == pytest.approx(1.0)
+    assert graph.time == pytest.approx(1.0 + LEARNING_DELAY_S)
     assert stats["node_count"] == len(graph.nodes) > 50
     assert stats["point_count"] == 5000 and 0 < stats["quantisation_error"] < 0.1
     assert graph.edges.max() < len(graph.nodes) and len(graph.clusters) == len(graph.nodes)
+
+
+class _TickingCamera(LeafSystem):
+    """Holds a cloud captured every `period` s, like the HeadCamera: frame k is a plane at
+    height k (m), so which frame a map learnt shows in its nodes' height."""
+
+    def __init__(self, period: float):
+        super().__init__()
+        self._frame = self.DeclareDiscreteState(1)
+        self.DeclarePeriodicDiscreteUpdateEvent(period, 0.0, self._capture)
+        self.DeclareVectorOutputPort("frame", 1, self._frame_number)
+        self.DeclareAbstractOutputPort(
+            "point_cloud", lambda: AbstractValue.Make(PointCloud()), self._cloud
+        )
+        self.DeclareAbstractOutputPort(
+            "image_time", lambda: AbstractValue.Make(0.0), self._image_time
+        )
+        self._period = period
+
+    def _capture(self, context, discrete_state):
+        discrete_state.set_value([round(context.get_time() / self._period)])
+
+    def _frame_number(self, context, output):
+        output.SetFromVector(context.get_discrete_state_vector().value())
+
+    def _cloud(self, context, output):
+        plane = _plane(2000)
+        plane[:, 2] = 0.5 + context.get_discrete_state_vector()[0]
+        output.set_value(_cloud(plane))
+
+    def _image_time(self, context, output):
+        output.set_value(context.get_discrete_state_vector()[0] * self._period)
+
+
+def test_point_cloud_gng_learns_the_frame_captured_at_its_own_tick():
+    builder = DiagramBuilder()
+    camera = builder.AddSystem(_TickingCamera(0.1))
+    params = {**SCENE_GNG_PARAMS, "mu1": 0.5}  # follows the newest frame within one frame
+    workspace = Workspace((-1.0, -1.0, 0.0), (1.0, 1.0, 10.0))
+    gng = builder.AddSystem(PointCloudGng(params, workspace, period=0.1, n_signals=3000))
+    builder.Connect(camera.GetOutputPort("point_cloud"), gng.GetInputPort("point_cloud"))
+    builder.Connect(camera.GetOutputPort("image_time"), gng.GetInputPort("image_time"))
+    diagram = builder.Build()
+    simulator = Simulator(diagram)
+    for tick in (1, 2, 3):
+        simulator.AdvanceTo(0.1 * tick + 0.05)
+        context = gng.GetMyContextFromRoot(simulator.get_context())
+        report = gng.GetOutputPort("frame_report").Eval(context)
+        graph = gng.GetOutputPort("graph").Eval(context)
+        assert report.image_time == pytest.approx(0.1 * tick)
+        assert graph.time == pytest.approx(0.1 * tick + LEARNING_DELAY_S)
+        # Frame `tick` is the plane at height tick + 0.5; the previous one is 1 m lower. Nodes
+        # that won this frame's signals stand on it, and none can stand higher.
+        assert graph.nodes[:, 2].max() == pytest.approx(tick + 0.5, abs=0.05)
+
+
+def test_point_cloud_gng_needs_its_delay_inside_the_period():
+    with pytest.raises(ValueError, match="delay"):
+        PointCloudGng(SCENE_GNG_PARAMS, WORKSPACE, period=0.1, delay=0.1)
 
 
 def test_point_cloud_gng_survives_empty_and_nan_clouds():

@@ -3,11 +3,17 @@ error naming the file, the key path and what was expected, with exit status 2.""
 
 from __future__ import annotations
 
+import math
+
 import pytest
 
 from hsr_handover.cli import main
 from hsr_handover.scenario import load_scenario
-from tests.conftest import bundled_scenarios
+from hsr_handover.scenario.schema import MAX_KEY_PATH
+from hsr_handover.scenario.strict_yaml import MAX_DEPTH
+from tests.conftest import SCENARIOS, bundled_scenarios
+
+MAX_ERROR_LINE = 300
 
 
 @pytest.mark.parametrize("path", bundled_scenarios(), ids=lambda p: p.name)
@@ -78,14 +84,18 @@ BROKEN = {
     "zero action duration": (
         _set("person.behavior[1].duration", 0),
         "person.behavior[1].duration",
-        "positive",
+        "expected a number in (0, 3600] (s), got 0",
     ),
     "actions out of order": (
         _set("person.behavior[1].start", 0.1),
         "person.behavior[1].start",
         "in time order",
     ),
-    "negative sim duration": (_set("simulation.duration", -1.0), "simulation.duration", "positive"),
+    "negative sim duration": (
+        _set("simulation.duration", -1.0),
+        "simulation.duration",
+        "expected a number in (0, 3600] (s), got -1.0",
+    ),
     "person in the table": (
         _set("person.position", [1.15, 0.0]),
         "person.position",
@@ -111,22 +121,222 @@ BROKEN = {
         "robot.joints.arm_lift_joint",
         "value in [0, 0.69]",
     ),
+    # Once a Drake or Python failure with exit status 1:
+    "object named like the table": (
+        _set("objects[2].name", "table"),
+        "objects[2].name",
+        "expected a name other than [",
+    ),
+    "object named like the robot model": (
+        _set("objects[2].name", "hsrb"),
+        "objects[2].name",
+        "'hsrb', 'table', 'person', 'world'] and __*, got 'hsrb'",
+    ),
+    "object named like a name SDFormat reserves": (
+        _set("objects[2].name", "__model__"),
+        "objects[2].name",
+        "and __*, got '__model__'",
+    ),
+    "robot model file that is not a model": (
+        _set("robot.model", "scenario.yaml"),
+        "robot.model",
+        "expected one SDF or URDF model that Drake parses",
+    ),
+    "robot model without the HSR's joints": (
+        _set("robot.model", "box.sdf"),
+        "robot.model",
+        "expected the HSR's joints and camera frame; base_x_joint is missing",
+    ),
+    "NaN in the robot's base pose": (
+        _set("robot.base_pose", [math.nan, 0.0, 0.0]),
+        "robot.base_pose[0]",
+        "expected a number in [-20, 20] (m), got nan",
+    ),
+    "infinite person position": (
+        _set("person.position", [math.inf, 0.0]),
+        "person.position[0]",
+        "expected a number in [-20, 20] (m), got inf",
+    ),
+    "NaN table centre": (
+        _set("table.center", [0.85, math.nan]),
+        "table.center[1]",
+        "expected a number in [-20, 20] (m), got nan",
+    ),
+    "NaN cup height": (
+        _set("objects[0].size", [0.07, math.nan]),
+        "objects[0].size[1]",
+        "expected a number in (0, 0.5] (m), got nan",
+    ),
+    "joint name that is not a string": (
+        _set("robot.joints", {1: 0.3}),
+        "robot.joints.1",
+        "expected a str key, got int 1",
+    ),
+    # Once accepted although broken:
+    "negative seed": (
+        _set("simulation.seed", -1),
+        "simulation.seed",
+        "expected an integer in [0, 4294967295], got -1",
+    ),
+    "seed beyond 32 bits": (
+        _set("simulation.seed", 2**32),
+        "simulation.seed",
+        "got 4294967296",
+    ),
+    "camera rate without end": (
+        _set("camera.rate_hz", 1e308),
+        "camera.rate_hz",
+        "expected a number in (0, 120] (Hz), got 1e+308",
+    ),
+    "NaN object height": (
+        _set("objects[0].position", [0.8, -0.22, math.nan]),
+        "objects[0].position[2]",
+        "got nan",
+    ),
+    "huge simulation duration": (
+        _set("simulation.duration", 1e308),
+        "simulation.duration",
+        "got 1e+308",
+    ),
+    "huge action duration": (
+        _set("person.behavior[1].duration", 1e308),
+        "person.behavior[1].duration",
+        "(0, 3600] (s), got 1e+308",
+    ),
+    "huge yaw": (
+        _set("table.yaw", 1e308),
+        "table.yaw",
+        "expected a number in [-6.28319, 6.28319] (rad), got 1e+308",
+    ),
+    "huge object yaw": (_set("objects[1].yaw", -1e308), "objects[1].yaw", "(rad), got -1e+308"),
+    "GNG learning rate of 0": (
+        _set("perception.gng.mu1", 0.0),
+        "perception.gng.mu1",
+        "expected a number in (0, 1], got 0.0",
+    ),
+    "GNG with too few nodes": (
+        _set("perception.gng.max_nodes", 2),
+        "perception.gng.max_nodes",
+        "expected an integer in [3, 5000], got 2",
+    ),
+    "base pose beyond the room": (
+        _set("robot.base_pose", [150.0, 0.0, 0.0]),
+        "robot.base_pose[0]",
+        "got 150.0",
+    ),
+    "list of 100,000 items": (
+        _set("table.center", [0.5] * 100_000),
+        "table.center",
+        "expected at most 1000 entries",
+    ),
+    "list of 1,000 items echoed": (
+        _set("table.center", [0.5] * 1000),
+        "table.center",
+        "expected [x, y], got a list of 1000 items",
+    ),
+    "long string echoed": (
+        _set("objects[0].color", "r" * 100_000),
+        "objects[0].color",
+        "(100000 characters)",
+    ),
+    "long unknown key": (
+        _set("table." + "k" * 10_000, 1),
+        "table." + "k" * (MAX_KEY_PATH - 7) + "…",
+        "unknown key",
+    ),
 }
+
+
+BOX_SDF = '<?xml version="1.0"?><sdf version="1.9"><model name="box"><link name="b"/></model></sdf>'
+
+
+def assert_one_error_line(capsys, path, key_path: str, phrase: str) -> None:
+    """Exactly one short line on stderr, `error: FILE: KEY: ...` holding `phrase`."""
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    lines = captured.err.strip().splitlines()
+    assert len(lines) == 1, captured.err[:1000]
+    assert lines[0].startswith(f"error: {path}: {key_path}: "), lines[0][:1000]
+    assert phrase in lines[0]
+    assert len(lines[0]) < MAX_ERROR_LINE, lines[0]
 
 
 @pytest.mark.parametrize("case", list(BROKEN), ids=list(BROKEN))
 def test_broken_scenario_gets_one_line_naming_file_key_and_expectation(
-    case, write_scenario, capsys
+    case, write_scenario, tmp_path, capsys
 ):
     mutate, key_path, phrase = BROKEN[case]
+    (tmp_path / "box.sdf").write_text(BOX_SDF)
     path = write_scenario(mutate)
     assert main(["validate", str(path)]) == 2
-    captured = capsys.readouterr()
-    assert captured.out == ""
-    lines = captured.err.strip().splitlines()
-    assert len(lines) == 1, captured.err
-    assert lines[0].startswith(f"error: {path}: {key_path}: "), lines[0]
-    assert phrase in lines[0]
+    assert_one_error_line(capsys, path, key_path, phrase)
+
+
+POINT_LEFT = (SCENARIOS / "point_left.yaml").read_text()
+DURATION_LINE = "  duration: 5.0\n"
+assert DURATION_LINE in POINT_LEFT
+
+
+def _replace(old: str, new: str) -> bytes:
+    return POINT_LEFT.replace(old, new, 1).encode()
+
+
+RAW_BROKEN = {
+    "bytes that are not UTF-8": (
+        POINT_LEFT.encode().replace(b"paper", b"pap\xff", 1),
+        "(file)",
+        "expected UTF-8 text; line 1 is not",
+    ),
+    "empty file": (b"", "(file)", "expected a mapping of scenario sections"),
+    "comment-only file": (b"# to do\n", "(file)", "expected a mapping of scenario sections"),
+    "lists nested a thousand deep": (
+        _replace(DURATION_LINE, f"  duration: {'[' * 1000}{']' * 1000}\n"),
+        "simulation.duration" + "[0]" * (MAX_DEPTH - 2),
+        f"expected at most {MAX_DEPTH} nested levels",
+    ),
+    "integer of 5,000 digits": (
+        _replace(DURATION_LINE, f"  duration: {'9' * 5000}\n"),
+        "simulation.duration",
+        "expected a number of at most 100 digits, got 5000",
+    ),
+    "duplicate key": (
+        _replace(DURATION_LINE, DURATION_LINE + "  duration: 50.0\n"),
+        "simulation.duration",
+        "expected each key once; this one repeats",
+    ),
+    "duplicate key in a flow mapping": (
+        _replace("color: red,", "color: red, color: blue,"),
+        "objects[0].color",
+        "expected each key once",
+    ),
+    "duplicate section": (
+        (POINT_LEFT + "simulation: {duration: 2.0}\n").encode(),
+        "simulation",
+        "expected each key once",
+    ),
+    "tagged value that does not construct": (
+        _replace(DURATION_LINE, DURATION_LINE + "  seed: !!int abc\n"),
+        "simulation.seed",
+        "expected a valid int",
+    ),
+}
+
+
+@pytest.mark.parametrize("case", list(RAW_BROKEN), ids=list(RAW_BROKEN))
+def test_broken_file_text_gets_one_line_naming_the_key(case, tmp_path, capsys):
+    text, key_path, phrase = RAW_BROKEN[case]
+    path = tmp_path / "scenario.yaml"
+    path.write_bytes(text)
+    assert main(["validate", str(path)]) == 2
+    assert_one_error_line(capsys, path, key_path, phrase)
+
+
+def test_merge_keys_may_override_and_yaml_12_floats_are_numbers(tmp_path):
+    text = _replace(DURATION_LINE, "  <<: {duration: 5.0}\n  duration: 4.0\n  time_step: 2e-3\n")
+    path = tmp_path / "scenario.yaml"
+    path.write_bytes(text)
+    simulation = load_scenario(path).simulation
+    assert (simulation.duration, simulation.time_step) == (4.0, 0.002)
 
 
 def test_each_broken_class_has_its_own_message(write_scenario, capsys):

@@ -7,7 +7,7 @@ import pytest
 
 from hsr_handover.hsr import PALM_FRAME
 from hsr_handover.scenario import load_scenario, object_center
-from hsr_handover.simulate import run_scenario
+from hsr_handover.simulation import run_scenario
 from tests.conftest import bundled_scenarios
 
 
@@ -18,7 +18,7 @@ def test_bundled_scenario_runs_to_the_end_with_the_world_at_rest(path, tmp_path)
     report = run_scenario(scenario, replay=tmp_path / "replay.html")
     assert report.sim_time == pytest.approx(scenario.simulation.duration)
     assert report.replay.stat().st_size > 1_000_000
-    plant = report.station.plant
+    plant = report.simulation.station.plant
     plant_context = plant.GetMyContextFromRoot(report.context)
     for obj in scenario.objects:
         position = plant.GetBodyByName(obj.name).EvalPoseInWorld(plant_context).translation()

@@ -24,6 +24,7 @@ from hsr_handover.perception.skeleton import (
     FACE_KEYPOINTS,
     NO_VALID_DEPTH,
     NOT_IN_VIEW,
+    Detection,
     Skeleton,
     SkeletonNoise,
     detect_keypoints,
@@ -32,7 +33,8 @@ from hsr_handover.perception.skeleton import (
     simulate_keypoints,
 )
 from hsr_handover.scenario import load_scenario, object_center
-from hsr_handover.station import build_station
+from hsr_handover.simulation import build_simulation
+from hsr_handover.systems.skeleton_lifter import SkeletonLifter
 from hsr_handover.systems.skeleton_sensor import RecordedSkeletonSource, SkeletonSensor
 from tests.conftest import SCENARIOS
 
@@ -215,19 +217,21 @@ def test_malformed_openpose_json_names_the_file_and_the_problem(tmp_path):
 @pytest.fixture(scope="module")
 def pointing_scene():
     """The scene at 3 s with a depth image rendered at that moment (the camera is slowed to
-    render only at 0 s and 3 s)."""
+    render only at 0 s and 3 s), the world's sensor inputs then, and the true keypoints."""
     scenario = load_scenario(SCENARIOS / "point_left.yaml")
     scenario.camera.rate_hz = 1.0 / 3.0
     scenario.camera.render_label = False
-    station = build_station(scenario)
-    simulator = Simulator(station.diagram)
+    simulation = build_simulation(scenario)
+    station = simulation.station
+    simulator = Simulator(simulation.diagram)
     simulator.AdvanceTo(3.001)  # the capture at 3 s runs at the start of the next step
     context = simulator.get_context()
     plant_context = station.plant.GetMyContextFromRoot(context)
+    station_context = simulation.station_context(context)
     inputs = {
         "body_poses": station.plant.get_body_poses_output_port().Eval(plant_context),
-        "depth_image": station.diagram.GetOutputPort("camera_depth_image").Eval(context),
-        "camera_pose": station.diagram.GetOutputPort("camera_pose").Eval(context),
+        "depth_image": station.diagram.GetOutputPort("camera_depth_image").Eval(station_context),
+        "camera_pose": station.diagram.GetOutputPort("camera_pose").Eval(station_context),
     }
     truth = np.array([
         station.plant.GetFrameByName(f"coco_{name}", station.person)
@@ -237,40 +241,105 @@ def pointing_scene():
     return station, inputs, truth
 
 
-def _sensor_context(sensor, inputs: dict, time: float = 3.0):
-    context = sensor.CreateDefaultContext()
+def _fixed_context(system, inputs: dict, time: float = 3.0):
+    context = system.CreateDefaultContext()
     context.SetTime(time)
     for name, value in inputs.items():
-        sensor.GetInputPort(name).FixValue(context, value)
+        system.GetInputPort(name).FixValue(context, value)
     return context
 
 
 def _sensor(station, noise=None, seed=0) -> SkeletonSensor:
     camera = station.scenario.camera.pinhole()
-    return SkeletonSensor(station.plant, station.person, camera, noise, seed)
+    return SkeletonSensor(station.plant, station.person, camera, 1.0 / 30.0, noise, seed)
 
 
-def test_sensor_is_reproducible_per_frame(pointing_scene):
+def _captured_context(sensor: SkeletonSensor, inputs: dict, time: float = 3.0):
+    """The sensor's own context after a capture at `time` with `inputs`."""
+    context = _fixed_context(sensor, inputs, time)
+    sensor.ExecuteInitializationEvents(context)
+    return context
+
+
+def _lift(station, detection, inputs: dict):
+    lifter = SkeletonLifter(station.scenario.camera.pinhole())
+    given = {k: v for k, v in inputs.items() if k != "body_poses"}
+    context = _fixed_context(lifter, {**given, "keypoints": detection})
+    return lifter.GetOutputPort("skeleton").Eval(context)
+
+
+def _skeleton(station, inputs: dict, noise=None, seed=0):
+    """What the robot makes of the world's sensor at 3 s: the detection, lifted."""
+    sensor = _sensor(station, noise, seed)
+    detection = sensor.GetOutputPort("keypoints").Eval(_captured_context(sensor, inputs))
+    return _lift(station, detection, inputs)
+
+
+def test_sensor_reports_nothing_before_its_first_capture(pointing_scene):
     station, inputs, _ = pointing_scene
+    sensor = _sensor(station)
+    detection = sensor.GetOutputPort("keypoints").Eval(_fixed_context(sensor, inputs))
+    assert detection.status == "no capture yet" and not (detection.confidence > 0).any()
+
+
+def test_sensor_is_reproducible_per_capture_and_holds_it_between_captures(pointing_scene):
+    station, inputs, truth = pointing_scene
     sensor = _sensor(station, seed=7)
-    port = sensor.GetOutputPort("skeleton")
-    first = port.Eval(_sensor_context(sensor, inputs, 3.0))
-    later = port.Eval(_sensor_context(sensor, inputs, 3.1))
-    again = port.Eval(_sensor_context(sensor, inputs, 3.0))
+    port = sensor.GetOutputPort("keypoints")
+    context = _captured_context(sensor, inputs, 3.0)
+    first = port.Eval(context)
+    keypoints, time = sensor.captured(context)
+    np.testing.assert_allclose(keypoints, truth, atol=1e-9)
+    assert time == 3.0
+    # Evaluated later, with the person moved, the output is still that capture's detection.
+    moved = [RigidTransform([0.3, 0.0, 0.0]) @ pose for pose in inputs["body_poses"]]
+    sensor.GetInputPort("body_poses").FixValue(context, moved)
+    context.SetTime(3.02)
+    np.testing.assert_array_equal(port.Eval(context).pixels, first.pixels)
+    again = port.Eval(_captured_context(sensor, inputs, 3.0))
+    later = port.Eval(_captured_context(sensor, inputs, 3.1))
     np.testing.assert_array_equal(again.pixels, first.pixels)
-    assert not np.array_equal(later.pixels, first.pixels, equal_nan=True)
-    # The camera's image time, when connected, keys the noise instead of the context time.
-    keyed = port.Eval(_sensor_context(sensor, {**inputs, "image_time": 3.0}, 3.1))
-    np.testing.assert_array_equal(keyed.pixels, first.pixels)
-    no_image = port.Eval(_sensor_context(sensor, {**inputs, "depth_image": ImageDepth32F()}))
-    assert no_image.is_empty and no_image.status == "no depth image"
+    assert not np.array_equal(later.pixels, first.pixels, equal_nan=True)  # new capture, new noise
+    no_image = _captured_context(sensor, {**inputs, "depth_image": ImageDepth32F()})
+    assert port.Eval(no_image).status == "no depth image"
+
+
+def test_sensor_captures_the_person_at_the_cameras_capture_instant():
+    """In the whole simulation the detector's keypoints are the person's pose at the last
+    camera capture, not at the moment someone evaluates them."""
+    scenario = load_scenario(SCENARIOS / "point_left.yaml")
+    scenario.camera.rate_hz = 10.0
+    scenario.camera.render_label = False
+    simulation = build_simulation(scenario)
+    station = simulation.station
+    sensor = station.diagram.GetSubsystemByName("pose_detector")
+    simulator = Simulator(simulation.diagram)
+    # The capture at 1.2 s and the camera's render read the plant's (sampled) outputs in the
+    # same event; until the plant's next step at 1.202 s they still show that instant.
+    simulator.AdvanceTo(1.2001)  # the arm is rising to point: it moves between captures
+    at_capture = sensor.keypoints_in_world(sensor.GetMyContextFromRoot(simulator.get_context()))
+    port = station.diagram.GetOutputPort("skeleton_keypoints")
+    detections, held_keypoints = [], []
+    for now in (1.2001, 1.29):  # between the capture at 1.2 s and the next at 1.3 s
+        simulator.AdvanceTo(now)
+        context = simulator.get_context()
+        station_context = simulation.station_context(context)
+        detections.append(port.Eval(station_context))
+        held, time = sensor.captured(sensor.GetMyContextFromRoot(context))
+        held_keypoints.append(held)
+        image_time = station.diagram.GetOutputPort("camera_image_time").Eval(station_context)
+        assert time == pytest.approx(1.2) and image_time == pytest.approx(1.2)
+        np.testing.assert_allclose(held, at_capture, atol=1e-12)
+    wrist = keypoint_index("r_wrist")
+    now = sensor.keypoints_in_world(sensor.GetMyContextFromRoot(context))
+    assert np.linalg.norm(now[wrist] - held_keypoints[0][wrist]) > 0.003  # the person moved on
+    np.testing.assert_array_equal(detections[1].pixels, detections[0].pixels)
 
 
 def test_sensor_sees_the_pointing_arm_where_it_is(pointing_scene):
     station, inputs, truth = pointing_scene
     camera = station.scenario.camera.pinhole()
-    sensor = _sensor(station, SkeletonNoise(face_drop_probability=0.0))
-    skeleton = sensor.GetOutputPort("skeleton").Eval(_sensor_context(sensor, inputs))
+    skeleton = _skeleton(station, inputs, SkeletonNoise(face_drop_probability=0.0))
     assert skeleton.status == "ok"
     # The upper body is in view, in front of the table; hips and legs are behind it or below.
     upper = [keypoint_index(n) for n in ("nose", "neck", "r_shoulder", "r_elbow", "r_wrist")]
@@ -295,8 +364,7 @@ def test_sensor_sees_the_pointing_arm_where_it_is(pointing_scene):
 
 def test_lifted_pointing_ray_hits_the_target(pointing_scene):
     station, inputs, _ = pointing_scene
-    sensor = _sensor(station, seed=1)
-    skeleton = sensor.GetOutputPort("skeleton").Eval(_sensor_context(sensor, inputs))
+    skeleton = _skeleton(station, inputs, seed=1)
     shoulder, wrist = skeleton.keypoint("r_shoulder").point, skeleton.keypoint("r_wrist").point
     scenario = station.scenario
     centers = {obj.name: object_center(scenario, obj) for obj in scenario.objects}
@@ -310,17 +378,25 @@ def test_lifted_pointing_ray_hits_the_target(pointing_scene):
     assert all(angle(c) > angle(centers[target]) for n, c in centers.items() if n != target)
 
 
+def test_lifter_says_why_a_skeleton_is_empty(pointing_scene):
+    station, inputs, _ = pointing_scene
+    assert _lift(station, Detection.missing(NOT_IN_VIEW), inputs).status == NOT_IN_VIEW
+    no_depth = {**inputs, "depth_image": ImageDepth32F()}
+    sensor = _sensor(station)
+    detection = sensor.GetOutputPort("keypoints").Eval(_captured_context(sensor, inputs))
+    assert _lift(station, detection, no_depth).status == "no depth image"
+
+
 def test_recorded_detections_replay_through_the_same_lifting(pointing_scene, tmp_path):
     station, inputs, _ = pointing_scene
     sensor = _sensor(station, seed=2)
-    live = sensor.GetOutputPort("skeleton").Eval(_sensor_context(sensor, inputs))
+    live = sensor.GetOutputPort("keypoints").Eval(_captured_context(sensor, inputs))
     path = tmp_path / "frame.json"
-    write_openpose_json(path, [live.detection()])
-    camera = station.scenario.camera.pinhole()
-    source = RecordedSkeletonSource(read_openpose_frames([path]), 10.0, camera)
-    replay_inputs = {k: v for k, v in inputs.items() if k != "body_poses"}
-    port = source.GetOutputPort("skeleton")
-    replayed = port.Eval(_sensor_context(source, replay_inputs, 0.05))
-    np.testing.assert_array_equal(replayed.points, live.points)
-    np.testing.assert_array_equal(replayed.confidence, live.confidence)
-    assert port.Eval(_sensor_context(source, replay_inputs, 0.1)).status == "recording ended"
+    write_openpose_json(path, [live])
+    source = RecordedSkeletonSource(read_openpose_frames([path]), 10.0)
+    port = source.GetOutputPort("keypoints")
+    replayed = port.Eval(_fixed_context(source, {}, 0.05))
+    np.testing.assert_array_equal(
+        _lift(station, replayed, inputs).points, _lift(station, live, inputs).points
+    )
+    assert port.Eval(_fixed_context(source, {}, 0.1)).status == "recording ended"

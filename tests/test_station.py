@@ -1,5 +1,6 @@
-"""The station end to end: the head camera sees the table at its height, the person points
-along the shoulder-to-object ray, the robot holds its posture and the objects stay put."""
+"""The station: the world alone on its ports (commands in, sensors and truth out), and end to end
+with the robot: the head camera sees the table at its height, the person points along the
+shoulder-to-object ray, the robot holds its posture and the objects stay put."""
 
 from __future__ import annotations
 
@@ -7,15 +8,14 @@ import numpy as np
 import pytest
 from pydrake.systems.analysis import Simulator
 
-from hsr_handover.hsr import PALM_FRAME
+from hsr_handover import interface
+from hsr_handover.hsr import COMMANDED_JOINTS, PALM_FRAME
+from hsr_handover.robot import ready_command
 from hsr_handover.scenario import load_scenario, object_center
+from hsr_handover.simulation import build_simulation
 from hsr_handover.station import build_station, check_initial_clearance
+from hsr_handover.station.hsr_interface import command_matrix, measurement_matrices
 from tests.conftest import SCENARIOS
-
-EXPORTED = (
-    "camera_color_image", "camera_depth_image", "camera_label_image", "camera_pose",
-    "robot_state", "person_state", "query_object", "contact_results",
-)  # fmt: skip
 
 
 def _frame_position(station, context, name: str, instance=None) -> np.ndarray:
@@ -24,23 +24,98 @@ def _frame_position(station, context, name: str, instance=None) -> np.ndarray:
     return frame.CalcPoseInWorld(plant.GetMyContextFromRoot(context)).translation()
 
 
+def _port_names(system, count, port) -> set[str]:
+    return {port(i).get_name() for i in range(count)}
+
+
+@pytest.fixture(scope="module")
+def station_alone():
+    """point_left.yaml's world with the camera slowed: nothing here reads images."""
+    scenario = load_scenario(SCENARIOS / "point_left.yaml")
+    scenario.camera.rate_hz = 1.0
+    return build_station(scenario)
+
+
+def test_station_exports_commands_sensors_and_truth_only(station_alone):
+    diagram = station_alone.diagram
+    inputs = _port_names(diagram, diagram.num_input_ports(), diagram.get_input_port)
+    outputs = _port_names(diagram, diagram.num_output_ports(), diagram.get_output_port)
+    assert inputs == set(interface.COMMANDS)
+    assert outputs == set(interface.SENSORS) | set(interface.TRUTH)
+    assert all(name.startswith(interface.TRUTH_PREFIX) for name in interface.TRUTH)
+    assert not any(name.startswith(interface.TRUTH_PREFIX) for name in interface.SENSORS)
+    # No controller inside: nothing but the command inputs drives the HSR's PD.
+    assert not any("posture" in system.get_name() for system in diagram.GetSystems())
+
+
+@pytest.mark.parametrize("missing", interface.COMMANDS)
+def test_an_unconnected_command_fails_loudly(station_alone, missing):
+    context = station_alone.diagram.CreateDefaultContext()
+    state, opening = ready_command(station_alone.scenario)
+    given = {interface.HSR_DESIRED_STATE: state, interface.GRIPPER_DESIRED_OPENING: [opening]}
+    for name, value in given.items():
+        if name != missing:
+            station_alone.diagram.GetInputPort(name).FixValue(context, value)
+    simulator = Simulator(station_alone.diagram, context)
+    with pytest.raises(RuntimeError, match=f"input '{missing}' .* is not connected"):
+        simulator.AdvanceTo(0.01)
+
+
+def test_command_and_measurement_maps_are_inverse_on_the_commanded_joints(station_alone):
+    plant, robot = station_alone.plant, station_alone.robot
+    D = command_matrix(plant, robot)
+    S, G = measurement_matrices(plant, robot)
+    context = plant.CreateDefaultContext()
+    n = len(COMMANDED_JOINTS)
+    command = np.concatenate([np.linspace(0.1, 0.5, n), np.linspace(-0.2, 0.2, n), [0.08]])
+    desired = D @ command
+    # Put the plant where the PD would drive it: desired positions, velocities per actuator.
+    for row, index in enumerate(plant.GetJointActuatorIndices(robot)):
+        joint = plant.get_joint_actuator(index).joint()
+        m = len(plant.GetJointActuatorIndices(robot))
+        q, v = plant.GetPositions(context).copy(), plant.GetVelocities(context).copy()
+        q[joint.position_start()], v[joint.velocity_start()] = desired[row], desired[m + row]
+        plant.SetPositions(context, q)
+        plant.SetVelocities(context, v)
+    state = plant.GetPositionsAndVelocities(context, robot)
+    np.testing.assert_allclose(S @ state, command[: 2 * n])
+    np.testing.assert_allclose(G @ state, [0.08])
+
+
+def test_the_hsr_follows_its_command_ports_and_reports_on_its_sensor_ports(station_alone):
+    diagram = station_alone.diagram
+    context = diagram.CreateDefaultContext()
+    state, _ = ready_command(station_alone.scenario)
+    n = len(COMMANDED_JOINTS)
+    moved = {"head_pan_joint": 0.3, "arm_lift_joint": 0.1, "base_x_joint": 0.05}
+    for name, value in moved.items():
+        state[COMMANDED_JOINTS.index(name)] = value
+    diagram.GetInputPort(interface.HSR_DESIRED_STATE).FixValue(context, state)
+    diagram.GetInputPort(interface.GRIPPER_DESIRED_OPENING).FixValue(context, [0.08])
+    simulator = Simulator(diagram, context)
+    simulator.AdvanceTo(1.5)
+    measured = diagram.GetOutputPort(interface.HSR_STATE_MEASURED).Eval(context)
+    np.testing.assert_allclose(measured[:n], state[:n], atol=2e-3)
+    opening = diagram.GetOutputPort(interface.GRIPPER_OPENING_MEASURED).Eval(context)
+    assert opening[0] == pytest.approx(0.08, abs=2e-3)
+    truth = diagram.GetOutputPort(interface.TRUTH_HSR_STATE).Eval(context)
+    plant = station_alone.plant
+    lift = plant.GetJointByName("arm_lift_joint").position_start()
+    assert truth[lift] == pytest.approx(measured[COMMANDED_JOINTS.index("arm_lift_joint")])
+
+
+def _station_output(simulation, context, name: str):
+    return simulation.station.diagram.GetOutputPort(name).Eval(simulation.station_context(context))
+
+
 @pytest.fixture(scope="module")
 def camera_view():
-    """The demo scene a few frames in, at the camera's real resolution."""
+    """The demo scene a few frames in, at the camera's real resolution, station and robot."""
     scenario = load_scenario(SCENARIOS / "demo.yaml")
-    station = build_station(scenario)
-    simulator = Simulator(station.diagram)
+    simulation = build_simulation(scenario)
+    simulator = Simulator(simulation.diagram)
     simulator.AdvanceTo(0.1)
-    return station, simulator.get_context()
-
-
-def test_station_exports_its_ports(camera_view):
-    station, _ = camera_view
-    names = {
-        station.diagram.get_output_port(i).get_name()
-        for i in range(station.diagram.num_output_ports())
-    }
-    assert set(EXPORTED) <= names
+    return simulation, simulator.get_context()
 
 
 def _table_label(station) -> int:
@@ -55,11 +130,11 @@ def _table_label(station) -> int:
 
 
 def test_depth_image_shows_the_table_top_at_its_height(camera_view):
-    station, context = camera_view
-    diagram, table = station.diagram, station.scenario.table
-    depth = diagram.GetOutputPort("camera_depth_image").Eval(context).data[:, :, 0]
-    labels = diagram.GetOutputPort("camera_label_image").Eval(context).data[:, :, 0]
-    X_WC = diagram.GetOutputPort("camera_pose").Eval(context)
+    simulation, context = camera_view
+    station, table = simulation.station, simulation.station.scenario.table
+    depth = _station_output(simulation, context, "camera_depth_image").data[:, :, 0]
+    labels = _station_output(simulation, context, "truth_label_image").data[:, :, 0]
+    X_WC = _station_output(simulation, context, "camera_pose")
     assert depth.shape == (station.scenario.camera.height, station.scenario.camera.width)
     mask = (labels == _table_label(station)) & np.isfinite(depth)
     camera = station.scenario.camera.pinhole()
@@ -77,8 +152,9 @@ def pointing_run():
     """point_left.yaml to mid-gesture; the camera is slowed because nothing here reads it."""
     scenario = load_scenario(SCENARIOS / "point_left.yaml")
     scenario.camera.rate_hz = 1.0
-    station = build_station(scenario)
-    simulator = Simulator(station.diagram)
+    simulation = build_simulation(scenario)
+    station = simulation.station
+    simulator = Simulator(simulation.diagram)
     simulator.AdvanceTo(0.01)
     palm_start = _frame_position(station, simulator.get_context(), PALM_FRAME, station.robot)
     simulator.AdvanceTo(3.0)

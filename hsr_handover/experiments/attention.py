@@ -32,7 +32,7 @@ from hsr_handover.perception.attention import (
 )
 from hsr_handover.perception.cloud_map import GraphSnapshot, Workspace
 from hsr_handover.scenario import Scenario
-from hsr_handover.simulate import ProgressCallback, RunReport, run_scenario
+from hsr_handover.simulation import ProgressCallback, RunReport, Simulation, run_scenario
 from hsr_handover.station import Station
 
 SETTLE_BAND = 0.05  # a change smaller than 5% of the level is no step to settle
@@ -189,6 +189,8 @@ def settle_time(times: np.ndarray, counts: np.ndarray, start: float, end: float)
         return float("nan")
     phase_times, phase_counts = times[in_phase], _smooth(times, counts[in_phase])
     tail = phase_counts[phase_times >= end - min(SETTLED_TAIL_S, (end - start) / 2)]
+    if not len(tail):  # the run ended before the phase's settled end: no level to settle to
+        return float("nan")
     settled = tail.mean()
     initial = before.mean() if len(before) else phase_counts[0]
     noise = max(SETTLE_BAND * max(abs(settled), 1.0), 2.0 * tail.std())
@@ -203,7 +205,8 @@ def _smooth(times: np.ndarray, values: np.ndarray) -> np.ndarray:
     """Centred moving average over SMOOTHING_S, so it does not lag; the ends average over what
     exists, and nothing from a neighbouring phase leaks in."""
     step = float(np.median(np.diff(times))) if len(times) > 1 else 1.0
-    kernel = np.ones(max(int(round(SMOOTHING_S / step)), 1))
+    # No longer than the values: "same" returns the longer of the two (a short run's phase).
+    kernel = np.ones(min(max(int(round(SMOOTHING_S / step)), 1), max(len(values), 1)))
     weights = np.convolve(np.ones_like(values), kernel, "same")
     return np.convolve(values, kernel, "same") / weights
 
@@ -214,9 +217,10 @@ class AttentionRecorder:
     every region, averaged at the end. A region holds only a few nodes (a hand, about five), so
     one frame's ratio moves by a fifth with a single node; thirty frames steady it."""
 
-    def __init__(self, station: Station):
-        scenario = station.scenario
-        self.station, self.period = station, 1.0 / scenario.camera.rate_hz
+    def __init__(self, simulation: Simulation):
+        scenario = simulation.station.scenario
+        self.station, self.period = simulation.station, 1.0 / scenario.camera.rate_hz
+        self.robot = simulation.robot.diagram
         self.schedule = list(scenario.perception.attention)
         self.starts = [change.start for change in self.schedule]
         self.ends = [*self.starts[1:], scenario.simulation.duration]
@@ -234,8 +238,9 @@ class AttentionRecorder:
         self.next_sample += self.period
         phase = int(np.searchsorted(self.starts, time + 1e-9, side="right")) - 1
         regions = truth_regions(self.station, context)
-        graph = self.station.diagram.GetOutputPort("gng_graph").Eval(context)
-        stats = self.station.diagram.GetOutputPort("gng_stats").Eval(context)
+        robot_context = self.robot.GetMyContextFromRoot(context)
+        graph = self.robot.GetOutputPort("gng_graph").Eval(robot_context)
+        stats = self.robot.GetOutputPort("gng_stats").Eval(robot_context)
         attended = 0
         if phase >= 0 and self.schedule[phase].focus != "none":
             change = self.schedule[phase]
@@ -250,7 +255,8 @@ class AttentionRecorder:
         return time >= end - min(SETTLED_TAIL_S, (end - start) / 2)
 
     def _density_ratios(self, context: Context, graph: GraphSnapshot, regions: dict) -> dict:
-        cloud = self.station.diagram.GetOutputPort("point_cloud").Eval(context).xyzs().T
+        robot_context = self.robot.GetMyContextFromRoot(context)
+        cloud = self.robot.GetOutputPort("point_cloud").Eval(robot_context).xyzs().T
         cloud = cloud.astype(float)
         areas = pixel_areas(cloud, *self.cloud_size)
         inside = self.workspace.contains(cloud)
@@ -306,8 +312,8 @@ def run_attention(
     scenario.perception.enabled = True
     recorders: list[AttentionRecorder] = []
 
-    def make_recorder(station: Station) -> AttentionRecorder:
-        recorders.append(AttentionRecorder(station))
+    def make_recorder(simulation: Simulation) -> AttentionRecorder:
+        recorders.append(AttentionRecorder(simulation))
         return recorders[-1]
 
     report = run_scenario(scenario, replay, progress, monitor_factory=make_recorder)

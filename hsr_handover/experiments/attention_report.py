@@ -15,6 +15,38 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 from hsr_handover.experiments.attention import AttentionResult  # noqa: E402
 
+UNDEFINED = "n/a"  # the text summary's word for a value the JSON writes as null
+
+
+def format_value(value: float, spec: str, unit: str = "") -> str:
+    """`value` formatted with `spec` and followed by `unit`, or "n/a" (as wide, no unit) where it
+    is undefined: NaN or infinite, which the JSON summary writes as null."""
+    if math.isfinite(value):
+        return f"{value:{spec}}{unit}"
+    return UNDEFINED.rjust(len(f"{math.nan:{spec}}"))
+
+
+def summary_lines(result: AttentionResult) -> list[str]:
+    """The summary as text: the headline figures, then one line per focus phase."""
+    lines = [
+        "density ratio (attended human region / rest): "
+        + format_value(result.density_ratio, ".2f"),
+        "node count settles after a shift (slowest):   "
+        + format_value(result.settle_time_s, ".2f", " s"),
+        "attended region settles (slowest):            "
+        + format_value(result.region_settle_time_s, ".2f", " s"),
+    ]
+    for phase in result.phases:
+        lines.append(
+            f"  {phase.focus:6s} {phase.target:10s} from {phase.start:4.1f} s: "
+            f"{phase.node_count:3d} nodes, "
+            f"attended ratio {format_value(phase.attended_ratio, '5.2f')} "
+            f"(gain {format_value(phase.attention_gain, '4.2f')}), "
+            f"count settled in {format_value(phase.settle_time_s, '.2f', ' s')}, "
+            f"region in {format_value(phase.region_settle_time_s, '.2f', ' s')}"
+        )
+    return lines
+
 
 def _json_safe(value):
     if isinstance(value, float):

@@ -57,14 +57,15 @@ class GraphSnapshot:
 @dataclasses.dataclass(frozen=True)
 class FrameReport:
     """What one frame did: points used, node count, mean accumulated node error, the frame's
-    quantisation error (mean distance from a point to its nearest node, m), and a status that
-    says why nothing was learnt when nothing was."""
+    quantisation error (mean distance from a point to its nearest node, m), a status that says
+    why nothing was learnt when nothing was, and the frame's capture time (s; NaN if unknown)."""
 
     n_points: int
     n_nodes: int
     mean_node_error: float
     quantisation_error: float
     status: str = "ok"
+    image_time: float = float("nan")
 
 
 @dataclasses.dataclass(frozen=True)

@@ -42,6 +42,7 @@ NOT_IN_VIEW = "person not in view"
 NO_VALID_DEPTH = "no valid depth"
 ALL_HIDDEN = "person hidden: no keypoint visible"
 NONE_DETECTED = "no keypoints detected"
+NO_DEPTH_IMAGE = "no depth image"
 
 # OpenPose-like confidences: high inside the image, lower where a keypoint's surroundings
 # are cut off by the border (OpenPose scores a part by the image evidence around it).
@@ -345,6 +346,23 @@ def lift_keypoints(
     return Skeleton(pixels, points, np.where(lifted, confidence, 0.0), status)
 
 
+def lift_detection(
+    detection: Detection, depth: np.ndarray, camera: PinholeCamera, X_WC: np.ndarray
+) -> Skeleton:
+    """The robot's side of the skeleton: a detection lifted with the depth image of the same
+    capture (`lift_keypoints`), or an empty skeleton that says why: "person not in view", "no
+    valid depth" (the depth image holds no measurement at all, or none at the detected
+    keypoints), or the detection's own status."""
+    depth = checked_depth(depth, camera)
+    if detection.status == NOT_IN_VIEW:
+        return Skeleton.missing(NOT_IN_VIEW)
+    if not valid_depth(depth).any():
+        return Skeleton.missing(NO_VALID_DEPTH)
+    if detection.status != STATUS_OK:
+        return Skeleton.missing(detection.status)
+    return lift_keypoints(detection.pixels, detection.confidence, depth, camera, X_WC)
+
+
 def simulate_keypoints(
     keypoints_W: np.ndarray,
     camera: PinholeCamera,
@@ -353,17 +371,7 @@ def simulate_keypoints(
     noise: SkeletonNoise,
     rng: np.random.Generator,
 ) -> Skeleton:
-    """The simulated skeleton sensor: `detect_keypoints`, then `lift_keypoints` (paper 3.2).
-
-    An empty result says why: "person not in view", "no valid depth" (the depth image holds
-    no measurement at all, or none at the detected keypoints), or that all are hidden.
-    """
-    depth = checked_depth(depth, camera)
+    """The simulated sensor and the robot's lifting in one call (paper 3.2):
+    `detect_keypoints`, then `lift_detection`."""
     detection = detect_keypoints(keypoints_W, camera, X_WC, depth, noise, rng)
-    if detection.status == NOT_IN_VIEW:
-        return Skeleton.missing(NOT_IN_VIEW)
-    if not valid_depth(depth).any():
-        return Skeleton.missing(NO_VALID_DEPTH)
-    if detection.status != STATUS_OK:
-        return Skeleton.missing(detection.status)
-    return lift_keypoints(detection.pixels, detection.confidence, depth, camera, X_WC)
+    return lift_detection(detection, depth, camera, X_WC)

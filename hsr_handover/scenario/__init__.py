@@ -6,6 +6,7 @@ loaded scenario's numbers, `loading` the file reader that runs them in order.
 
 from hsr_handover.scenario.checks import object_center, resolve_model_path
 from hsr_handover.scenario.loading import load_scenario
+from hsr_handover.scenario.robot_start import robot_start_positions
 from hsr_handover.scenario.schema import (
     ActionConfig,
     CameraConfig,
@@ -25,4 +26,5 @@ __all__ = [
     "ActionConfig", "CameraConfig", "FocusConfig", "GngConfig", "ObjectConfig",
     "PerceptionConfig", "PersonConfig", "RobotConfig", "Scenario", "ScenarioError",
     "SimulationConfig", "TableConfig", "load_scenario", "object_center", "resolve_model_path",
+    "robot_start_positions",
 ]  # fmt: skip

@@ -1,4 +1,6 @@
-"""Checks of a loaded Scenario that need only its numbers (no built plant).
+"""Checks of a loaded Scenario: every number within its stated range (the ranges the dataclass
+docstrings in `schema` give), names and references that resolve, objects that rest on the table
+without overlapping, and a robot model file that Drake parses into an HSR.
 
 Each raises ScenarioError naming the key path and what was expected. Footprints on the table
 top are exact for the shapes we have: cups are discs, boxes are rotated rectangles.
@@ -6,17 +8,40 @@ top are exact for the shapes we have: cups are discs, boxes are rotated rectangl
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 import itertools
+import logging
 import math
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from pathlib import Path
+from typing import NoReturn
 
 import numpy as np
+from pydrake.multibody.parsing import Parser
+from pydrake.multibody.plant import AddMultibodyPlantSceneGraph
+from pydrake.multibody.tree import ModelInstanceIndex
+from pydrake.systems.framework import DiagramBuilder
 
-from hsr_handover.hsr import GRIPPER_MAX_OPENING, MODELS_DIR
+from hsr_handover.hsr import (
+    ARM_JOINTS,
+    BASE_JOINTS,
+    CAMERA_FRAME,
+    GRIPPER_JOINT,
+    GRIPPER_MAX_OPENING,
+    GRIPPER_MIMIC_JOINT,
+    HEAD_JOINTS,
+    MODELS_DIR,
+    TORSO_JOINT,
+    actuated_joint_names,
+    add_hsr,
+)
 from hsr_handover.human.behavior import ACTIONS
 from hsr_handover.perception.attention import FOCUS_KINDS
 from hsr_handover.perception.object_colors import OBJECT_COLORS
 from hsr_handover.scenario.schema import ObjectConfig, Scenario, ScenarioError
+from hsr_handover.scenario.typed_yaml import describe
 from hsr_handover.scene.object_models import OBJECT_SHAPES, object_height
 
 GRIPPER_MAX_WIDTH = round(
@@ -24,28 +49,97 @@ GRIPPER_MAX_WIDTH = round(
 )  # m: what the gripper closes around, with margin
 PAYLOAD = 1.2  # kg
 REST_TOLERANCE = 0.005  # m: how far an object's given z may be from resting on the top
+MAX_NAME_LENGTH = 64
+
+HSR_ACTUATED_JOINTS = (*BASE_JOINTS, *ARM_JOINTS, *HEAD_JOINTS, GRIPPER_JOINT)
+HSR_MIMIC_JOINTS = (TORSO_JOINT, GRIPPER_MIMIC_JOINT)
+WORLD_MODELS = ("table", "person")
+"""The models the station adds besides the robot and the objects (scene/table_model.py and
+scene/person_model.py name them); model names in one plant must be unique."""
+
+Fail = Callable[[str, str], NoReturn]
+
+
+@dataclasses.dataclass(frozen=True)
+class Interval:
+    """A range of numbers with its unit, written as in maths: [a, b] closed, (a, b] open at a."""
+
+    low: float
+    high: float
+    unit: str = ""
+    open_low: bool = False
+    open_high: bool = False
+    integer: bool = False
+
+    def __contains__(self, value: float) -> bool:
+        above = value > self.low if self.open_low else value >= self.low
+        below = value < self.high if self.open_high else value <= self.high
+        return bool(above and below)  # False for NaN, which compares False with everything
+
+    def __str__(self) -> str:
+        low, high = (f"{bound:g}" if isinstance(bound, float) else str(bound) for bound in self)
+        text = f"{'(['[not self.open_low]}{low}, {high}{')]'[not self.open_high]}"
+        return f"{text} ({self.unit})" if self.unit else text
+
+    def __iter__(self) -> Iterator[float]:
+        return iter((self.low, self.high))
+
+    @property
+    def noun(self) -> str:
+        return "an integer" if self.integer else "a number"
+
+
+TAU = 2 * math.pi
+ROOM = Interval(-20.0, 20.0, "m")  # every position: the room the robot works in
+YAW = Interval(-TAU, TAU, "rad")
+TIME = Interval(0.0, 3600.0, "s")  # start times in a script
+DURATION = Interval(0.0, 3600.0, "s", open_low=True)
+RATE = Interval(0.0, 120.0, "Hz", open_low=True)
+UNIT_RATE = Interval(0.0, 1.0, open_low=True)  # GNG learning rates
+FRACTION = Interval(0.0, 1.0, open_high=True)  # GNG error reductions
+COUNT = Interval(1, 1_000_000, integer=True)
 
 
 def check_scenario(scenario: Scenario) -> None:
     """Raise ScenarioError at the first problem a scenario's numbers show."""
     fail = _failer(scenario.source)
+    robot_models = _check_robot(scenario, fail)
     _check_simulation(scenario, fail)
     _check_camera(scenario, fail)
     _check_table(scenario, fail)
-    _check_objects(scenario, fail)
+    _check_objects(scenario, robot_models, fail)
     _check_person(scenario, fail)
     _check_perception(scenario, fail)
-    if resolve_model_path(scenario.robot.model, scenario.source) is None:
-        fail("robot.model", f"expected an existing model file, got {scenario.robot.model!r}")
-    if len(scenario.robot.base_pose) != 3:
-        fail("robot.base_pose", "expected [x, y, yaw]")
 
 
-def _failer(source: str):
-    def fail(key_path: str, expected: str):
+def _failer(source: str) -> Fail:
+    def fail(key_path: str, expected: str) -> NoReturn:
         raise ScenarioError(source, key_path, expected)
 
     return fail
+
+
+def _number(fail: Fail, key: str, value: float, interval: Interval) -> None:
+    """One number within its interval (type checks already ran: ints where ints belong)."""
+    if value not in interval:
+        fail(key, f"expected {interval.noun} in {interval}, got {describe(value)}")
+
+
+def _numbers(
+    fail: Fail, key: str, values: Sequence[float], interval: Interval, layout: str = ""
+) -> None:
+    """A list of numbers, each within `interval`; with a `layout` such as "[x, y]", also as many
+    as it names."""
+    if layout and len(values) != layout.count(",") + 1:
+        fail(key, f"expected {layout}, got {describe(values)}")
+    for index, value in enumerate(values):
+        _number(fail, f"{key}[{index}]", value, interval)
+
+
+def _choice(fail: Fail, key: str, value: str, choices: Sequence[str], what: str = "") -> None:
+    """A name that must be one of `choices` (`what` says what they are, e.g. "the objects ")."""
+    if value not in choices:
+        fail(key, f"expected one of {what}{list(choices)}, got {describe(value)}")
 
 
 def resolve_model_path(url: str, scenario_source: str) -> Path | None:
@@ -61,52 +155,109 @@ def resolve_model_path(url: str, scenario_source: str) -> Path | None:
     return path if path.is_file() else None
 
 
-def _positive(fail, key: str, value: float) -> None:
-    if not (value > 0 and math.isfinite(value)):
-        fail(key, f"expected a positive number, got {value}")
+def _check_robot(scenario: Scenario, fail: Fail) -> tuple[str, ...]:
+    """Check the robot section; returns the model names the robot's file adds to a plant."""
+    robot = scenario.robot
+    path = resolve_model_path(robot.model, scenario.source)
+    if path is None:
+        fail("robot.model", f"expected an existing model file, got {describe(robot.model)}")
+    stat = path.stat()
+    try:
+        models = robot_model_names(path.resolve(), stat.st_mtime_ns, stat.st_size)
+    except ValueError as error:
+        fail("robot.model", str(error))
+    if len(robot.base_pose) != 3:
+        fail("robot.base_pose", f"expected [x, y, yaw], got {describe(robot.base_pose)}")
+    _numbers(fail, "robot.base_pose", robot.base_pose[:2], ROOM)
+    _number(fail, "robot.base_pose[2]", robot.base_pose[2], YAW)
+    for name, value in robot.joints.items():
+        # Each joint's own limits are checked against the model when the station is built.
+        _number(fail, f"robot.joints.{name}", value, Interval(-TAU, TAU, "rad or m"))
+    return models
 
 
-def _check_simulation(scenario: Scenario, fail) -> None:
+@contextmanager
+def _quiet_drake() -> Iterator[None]:
+    """Silence Drake's parser warnings: a broken file gets one error line, not a log."""
+    logger = logging.getLogger("drake")
+    level = logger.level
+    logger.setLevel(logging.ERROR)
+    try:
+        yield
+    finally:
+        logger.setLevel(level)
+
+
+@functools.lru_cache(maxsize=8)
+def robot_model_names(path: Path, mtime_ns: int, size: int) -> tuple[str, ...]:
+    """The model instance names a plant holds after adding the robot model at `path` the way
+    the station does (Drake's own instances included). Raises ValueError saying what was
+    expected when the file does not parse or lacks the HSR's joints or camera frame.
+
+    Cached by path, modification time and size: validate and run load the same file twice.
+    """
+    del mtime_ns, size  # the cache key only
+    builder = DiagramBuilder()
+    plant, _ = AddMultibodyPlantSceneGraph(builder, time_step=0.0)
+    try:
+        with _quiet_drake():
+            robot = add_hsr(plant, Parser(plant), path)
+            plant.Finalize()  # actuators are indexed per model instance only then
+    except (RuntimeError, ValueError) as error:
+        text = str(error).strip().removeprefix("error: ")
+        reason = text.splitlines()[0] if text else type(error).__name__
+        raise ValueError(f"expected one SDF or URDF model that Drake parses ({reason})") from None
+    actuated = set(actuated_joint_names(plant, robot))
+    missing = [name for name in HSR_ACTUATED_JOINTS if name not in actuated]
+    missing += [name for name in HSR_MIMIC_JOINTS if not plant.HasJointNamed(name, robot)]
+    missing += [] if plant.HasFrameNamed(CAMERA_FRAME, robot) else [CAMERA_FRAME]
+    if missing:
+        raise ValueError(f"expected the HSR's joints and camera frame; {missing[0]} is missing")
+    instances = map(ModelInstanceIndex, range(plant.num_model_instances()))
+    return tuple(plant.GetModelInstanceName(instance) for instance in instances)
+
+
+def _check_simulation(scenario: Scenario, fail: Fail) -> None:
     sim = scenario.simulation
-    _positive(fail, "simulation.duration", sim.duration)
-    _positive(fail, "simulation.time_step", sim.time_step)
-    if sim.time_step > 0.01:
-        fail(
-            "simulation.time_step",
-            f"expected at most 0.01 s for stable contact, got {sim.time_step}",
-        )
-    _positive(fail, "simulation.replay_fps", sim.replay_fps)
+    _number(fail, "simulation.duration", sim.duration, DURATION)
+    # Below 0.1 ms a run of minutes takes days; above 10 ms contact is not stable.
+    _number(fail, "simulation.time_step", sim.time_step, Interval(1e-4, 0.01, "s"))
+    _number(fail, "simulation.seed", sim.seed, Interval(0, 2**32 - 1, integer=True))
+    _number(fail, "simulation.replay_fps", sim.replay_fps, RATE)
 
 
-def _check_camera(scenario: Scenario, fail) -> None:
+def _check_camera(scenario: Scenario, fail: Fail) -> None:
     camera = scenario.camera
-    _positive(fail, "camera.width", camera.width)
-    _positive(fail, "camera.height", camera.height)
-    _positive(fail, "camera.rate_hz", camera.rate_hz)
-    if not 0 < camera.fov_x < math.pi:
-        fail("camera.fov_x", f"expected a field of view in (0, pi) rad, got {camera.fov_x}")
+    pixels = Interval(16, 4096, "px", integer=True)
+    _number(fail, "camera.width", camera.width, pixels)
+    _number(fail, "camera.height", camera.height, pixels)
+    _number(fail, "camera.rate_hz", camera.rate_hz, RATE)
+    _number(fail, "camera.fov_x", camera.fov_x, Interval(0, math.pi, "rad", True, True))
     near_far = camera.depth_range
-    if len(near_far) != 2 or not 0 < near_far[0] < near_far[1]:
-        fail("camera.depth_range", f"expected [near, far] with 0 < near < far, got {near_far}")
+    _numbers(fail, "camera.depth_range", near_far, Interval(0, 20, "m", True), "[near, far]")
+    if not near_far[0] < near_far[1]:
+        fail("camera.depth_range", f"expected [near, far] with near < far, got {near_far}")
 
 
-def _check_table(scenario: Scenario, fail) -> None:
+def _check_table(scenario: Scenario, fail: Fail) -> None:
     table = scenario.table
-    if len(table.center) != 2:
-        fail("table.center", f"expected [x, y], got {table.center}")
-    if len(table.size) != 2 or min(table.size) <= 0:
-        fail("table.size", f"expected [depth, width] both positive, got {table.size}")
-    if not 0.3 <= table.height <= 1.2:
-        fail("table.height", f"expected a top height between 0.3 and 1.2 m, got {table.height}")
+    _numbers(fail, "table.center", table.center, ROOM, "[x, y]")
+    _number(fail, "table.yaw", table.yaw, YAW)
+    _numbers(fail, "table.size", table.size, Interval(0, 5, "m", True), "[depth, width]")
+    _number(fail, "table.height", table.height, Interval(0.3, 1.2, "m"))
     if not 0 < table.thickness < table.height:
         fail("table.thickness", f"expected 0 < thickness < height, got {table.thickness}")
 
 
-def _check_objects(scenario: Scenario, fail) -> None:
+def _check_objects(scenario: Scenario, robot_models: tuple[str, ...], fail: Fail) -> None:
+    taken = [*robot_models, *WORLD_MODELS, "world"]  # model names must be unique in a plant
     names, colors = set(), set()
     for index, obj in enumerate(scenario.objects):
         key = f"objects[{index}]"
         _check_object(obj, key, fail)
+        if obj.name in taken or obj.name.startswith("__"):  # SDFormat reserves __*__ names
+            expected = f"a name other than {taken} and __*"
+            fail(f"{key}.name", f"expected {expected}, got {obj.name!r}")
         if obj.name in names:
             fail(f"{key}.name", f"expected a unique name, {obj.name!r} is used twice")
         if obj.color in colors:
@@ -119,22 +270,26 @@ def _check_objects(scenario: Scenario, fail) -> None:
             fail(f"objects[{j}].position", f"expected no overlap with objects[{i}] ({a.name})")
 
 
-def _check_object(obj: ObjectConfig, key: str, fail) -> None:
-    if not obj.name.isidentifier():
-        fail(f"{key}.name", f"expected a name of letters, digits and _, got {obj.name!r}")
-    if obj.shape not in OBJECT_SHAPES:
-        fail(f"{key}.shape", f"expected one of {sorted(OBJECT_SHAPES)}, got {obj.shape!r}")
-    count = OBJECT_SHAPES[obj.shape]
-    if len(obj.size) != count or min(obj.size) <= 0:
-        fail(f"{key}.size", f"expected {count} positive sizes for a {obj.shape}, got {obj.size}")
+def _check_object(obj: ObjectConfig, key: str, fail: Fail) -> None:
+    if not _is_model_name(obj.name):
+        expected = f"a name of at most {MAX_NAME_LENGTH} letters, digits and _"
+        fail(f"{key}.name", f"expected {expected}, got {describe(obj.name)}")
+    _choice(fail, f"{key}.shape", obj.shape, sorted(OBJECT_SHAPES))
+    layout = "[diameter, height]" if obj.shape == "cup" else "[x, y, z]"
+    _numbers(fail, f"{key}.size", obj.size, Interval(0, 0.5, "m", open_low=True), layout)
     if min(obj.size[:2]) > GRIPPER_MAX_WIDTH:
         fail(f"{key}.size", f"expected a side at most {GRIPPER_MAX_WIDTH} m for the gripper")
-    if obj.color not in OBJECT_COLORS:
-        fail(f"{key}.color", f"expected one of {sorted(OBJECT_COLORS)}, got {obj.color!r}")
-    if not 0 < obj.mass <= PAYLOAD:
-        fail(f"{key}.mass", f"expected a mass in (0, {PAYLOAD}] kg (the payload), got {obj.mass}")
+    _choice(fail, f"{key}.color", obj.color, sorted(OBJECT_COLORS))
+    _number(fail, f"{key}.mass", obj.mass, Interval(0, PAYLOAD, "kg, the payload", True))
     if len(obj.position) not in (2, 3):
-        fail(f"{key}.position", f"expected [x, y] or [x, y, z], got {obj.position}")
+        fail(f"{key}.position", f"expected [x, y] or [x, y, z], got {describe(obj.position)}")
+    _numbers(fail, f"{key}.position", obj.position, ROOM)
+    _number(fail, f"{key}.yaw", obj.yaw, YAW)
+
+
+def _is_model_name(name: str) -> bool:
+    """ASCII letters, digits and _: a name that fits SDFormat, Meshcat paths and messages."""
+    return name.isascii() and name.isidentifier() and len(name) <= MAX_NAME_LENGTH
 
 
 def object_center(scenario: Scenario, obj: ObjectConfig) -> np.ndarray:
@@ -143,7 +298,7 @@ def object_center(scenario: Scenario, obj: ObjectConfig) -> np.ndarray:
     return np.array([obj.position[0], obj.position[1], z])
 
 
-def _check_resting(scenario: Scenario, obj: ObjectConfig, key: str, fail) -> None:
+def _check_resting(scenario: Scenario, obj: ObjectConfig, key: str, fail: Fail) -> None:
     resting_z = object_center(scenario, obj)[2]
     if len(obj.position) == 3 and abs(obj.position[2] - resting_z) > REST_TOLERANCE:
         fail(f"{key}.position", f"expected z = {resting_z:.3f} m to rest on the table top")
@@ -185,70 +340,76 @@ def footprints_overlap(a: ObjectConfig, b: ObjectConfig) -> bool:
     return True
 
 
-def _check_time_order(fail, key: str, starts: list[float]) -> None:
-    """A script's entries start at finite, non-negative, non-decreasing times."""
+def _check_time_order(fail: Fail, key: str, starts: list[float]) -> None:
+    """A script's entries start within TIME, in non-decreasing order."""
     previous = 0.0
     for index, start in enumerate(starts):
-        if not (start >= previous and math.isfinite(start)):
+        _number(fail, f"{key}[{index}].start", start, TIME)
+        if start < previous:
             fail(
                 f"{key}[{index}].start", f"expected a time >= {previous} s (entries in time order)"
             )
         previous = start
 
 
-def _check_person(scenario: Scenario, fail) -> None:
+def _check_person(scenario: Scenario, fail: Fail) -> None:
     person = scenario.person
-    if len(person.position) != 2:
-        fail("person.position", f"expected [x, y], got {person.position}")
-    if not 1.2 <= person.height <= 2.1:
-        fail("person.height", f"expected an adult height in [1.2, 2.1] m, got {person.height}")
-    if person.posture not in ("seated", "standing"):
-        fail("person.posture", f"expected 'seated' or 'standing', got {person.posture!r}")
-    names = {obj.name for obj in scenario.objects}
+    _numbers(fail, "person.position", person.position, ROOM, "[x, y]")
+    _number(fail, "person.yaw", person.yaw, YAW)
+    _number(fail, "person.height", person.height, Interval(1.2, 2.1, "m, an adult"))
+    _choice(fail, "person.posture", person.posture, ("seated", "standing"))
+    names = sorted(obj.name for obj in scenario.objects)
     _check_time_order(fail, "person.behavior", [action.start for action in person.behavior])
     for index, action in enumerate(person.behavior):
         key = f"person.behavior[{index}]"
-        if action.action not in ACTIONS:
-            fail(f"{key}.action", f"expected one of {list(ACTIONS)}, got {action.action!r}")
+        _choice(fail, f"{key}.action", action.action, ACTIONS)
         if action.duration is not None:
-            _positive(fail, f"{key}.duration", action.duration)
-        if action.arm not in ("right", "left"):
-            fail(f"{key}.arm", f"expected 'right' or 'left', got {action.arm!r}")
-        if action.action in ("look_at", "point_at") and action.target not in names:
-            fail(
-                f"{key}.target",
-                f"expected one of the objects {sorted(names)}, got {action.target!r}",
-            )
-        if action.action == "reach_to" and len(action.point) != 3:
-            fail(f"{key}.point", f"expected [x, y, z] for reach_to, got {action.point}")
+            _number(fail, f"{key}.duration", action.duration, DURATION)
+        _choice(fail, f"{key}.arm", action.arm, ("right", "left"))
+        if action.action in ("look_at", "point_at"):
+            _choice(fail, f"{key}.target", action.target, names, "the objects ")
+        layout = "[x, y, z] for reach_to" if action.action == "reach_to" else ""
+        _numbers(fail, f"{key}.point", action.point, ROOM, layout)
 
 
-def _check_perception(scenario: Scenario, fail) -> None:
+def _check_perception(scenario: Scenario, fail: Fail) -> None:
     perception = scenario.perception
-    size = perception.cloud_size
-    if len(size) != 2 or min(size) <= 0:
-        fail("perception.cloud_size", f"expected [width, height], both positive, got {size}")
+    size = Interval(8, 1024, "px", integer=True)
+    _numbers(fail, "perception.cloud_size", perception.cloud_size, size, "[width, height]")
     box = perception.workspace
-    if len(box) != 6 or not all(lo < hi for lo, hi in zip(box[:3], box[3:], strict=True)):
-        fail("perception.workspace", f"expected [x, y, z lower, x, y, z upper], got {box}")
-    _positive(fail, "perception.signals_per_frame", perception.signals_per_frame)
-    if not perception.attention_weight >= 1:
-        weight = perception.attention_weight
-        fail("perception.attention_weight", f"expected a sampling weight >= 1, got {weight}")
-    if not 0 <= perception.face_drop_probability <= 1:
-        fail("perception.face_drop_probability", "expected a probability in [0, 1]")
-    if not perception.pixel_sigma >= 0:
-        fail("perception.pixel_sigma", f"expected sigma >= 0, got {perception.pixel_sigma}")
-    names = {obj.name for obj in scenario.objects}
+    _numbers(fail, "perception.workspace", box, ROOM, "[x, y, z lower, x, y, z upper]")
+    if not all(lo < hi for lo, hi in zip(box[:3], box[3:], strict=True)):
+        fail("perception.workspace", f"expected each lower bound below its upper, got {box}")
+    _number(fail, "perception.signals_per_frame", perception.signals_per_frame, COUNT)
+    weight = Interval(1, 1e4, "sampling weight")
+    _number(fail, "perception.attention_weight", perception.attention_weight, weight)
+    sigma = Interval(0, 100, "px")
+    _number(fail, "perception.pixel_sigma", perception.pixel_sigma, sigma)
+    probability = Interval(0, 1)
+    _number(fail, "perception.face_drop_probability", perception.face_drop_probability, probability)
+    _check_gng(scenario, fail)
+    names = sorted(obj.name for obj in scenario.objects)
     _check_time_order(
         fail, "perception.attention", [change.start for change in perception.attention]
     )
     for index, change in enumerate(perception.attention):
         key = f"perception.attention[{index}]"
-        if change.focus not in FOCUS_KINDS:
-            fail(f"{key}.focus", f"expected one of {list(FOCUS_KINDS)}, got {change.focus!r}")
-        if change.focus == "object" and change.target not in names:
-            fail(
-                f"{key}.target",
-                f"expected one of the objects {sorted(names)}, got {change.target!r}",
-            )
+        _choice(fail, f"{key}.focus", change.focus, FOCUS_KINDS)
+        if change.focus == "object":
+            _choice(fail, f"{key}.target", change.target, names, "the objects ")
+
+
+def _check_gng(scenario: Scenario, fail: Fail) -> None:
+    """The scene GNG's parameters, here rather than when the GNG is built, so a bad one costs
+    no world building and the error names its key."""
+    gng = scenario.perception.gng
+    key = "perception.gng"
+    _number(fail, f"{key}.max_nodes", gng.max_nodes, Interval(3, 5000, integer=True))
+    _number(fail, f"{key}.lam", gng.lam, COUNT)
+    _number(fail, f"{key}.mu1", gng.mu1, UNIT_RATE)
+    _number(fail, f"{key}.mu2", gng.mu2, UNIT_RATE)
+    _number(fail, f"{key}.mu3", gng.mu3, Interval(0, 1e6, "1/m"))
+    _number(fail, f"{key}.a_max", gng.a_max, COUNT)
+    _number(fail, f"{key}.alpha", gng.alpha, FRACTION)
+    _number(fail, f"{key}.beta", gng.beta, FRACTION)
+    _number(fail, f"{key}.e_min", gng.e_min, Interval(0, 1e6, "m^2"))

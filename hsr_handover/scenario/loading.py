@@ -7,32 +7,53 @@ from pydrake.common.yaml import yaml_load_typed
 
 from hsr_handover.scenario.checks import check_scenario
 from hsr_handover.scenario.schema import Scenario, ScenarioError
+from hsr_handover.scenario.strict_yaml import load_yaml
 from hsr_handover.scenario.typed_yaml import SchemaMismatch, check_against_schema
+
+MAX_FILE_BYTES = 1_000_000
+"""Largest scenario file read; the bundled ones are under 3 kB."""
 
 
 def load_scenario(filename: str | Path) -> Scenario:
     """Load and check a scenario file. Raises ScenarioError naming the file, key and expectation.
 
+    An empty (or comment-only) file is an error, not an all-defaults scenario: a scenario
+    without objects or a script shows nothing, so an empty file is more likely a mistake.
+
     Checks here need only the file; checks that need the built scene (the person or the robot
-    intersecting the table) run in `station.check_initial_clearance`.
+    intersecting the table) run when the station is built.
     """
-    path = Path(filename)
     name = str(filename)
-    if not path.is_file():
-        raise ScenarioError(name, "(file)", "expected an existing scenario YAML file")
+    text = _read_text(Path(filename), name)
     try:
-        raw = yaml.safe_load(path.read_text())
+        raw = load_yaml(text)
+        if raw is None:
+            raise SchemaMismatch("(file)", "expected a mapping of scenario sections, got none")
+        check_against_schema(raw, Scenario)
     except yaml.YAMLError as error:
         mark = getattr(error, "problem_mark", None)
         where = f"line {mark.line + 1}" if mark else "(file)"
         raise ScenarioError(name, where, "expected valid YAML") from None
-    try:
-        check_against_schema(raw if raw is not None else {}, Scenario)
     except SchemaMismatch as error:
         raise ScenarioError(name, error.key_path, error.expected) from None
-    if raw is not None and "source" in raw:
+    if "source" in raw:
         raise ScenarioError(name, "source", "unknown key; it is set by the loader")
-    scenario = yaml_load_typed(schema=Scenario, filename=str(path), defaults=Scenario())
+    # Drake parses the same text again; the walk above has ruled out everything it would
+    # reject or read differently.
+    scenario = yaml_load_typed(schema=Scenario, data=text, defaults=Scenario())
     scenario.source = name
     check_scenario(scenario)
     return scenario
+
+
+def _read_text(path: Path, name: str) -> str:
+    if not path.is_file():
+        raise ScenarioError(name, "(file)", "expected an existing scenario YAML file")
+    if path.stat().st_size > MAX_FILE_BYTES:
+        raise ScenarioError(name, "(file)", f"expected a file under {MAX_FILE_BYTES:,} bytes")
+    data = path.read_bytes()
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as error:
+        line = data.count(b"\n", 0, error.start) + 1
+        raise ScenarioError(name, "(file)", f"expected UTF-8 text; line {line} is not") from None

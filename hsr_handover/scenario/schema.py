@@ -4,6 +4,10 @@ here: Drake's YAML loader reads the field types at run time and needs them as re
 
 World frame: z up, the floor at z = 0. Poses are [x, y, yaw] on the floor unless said otherwise.
 Left and right in scenario names are as the *person* sees them.
+
+Every number has a range, stated in its class's docstring and checked on loading (`checks`):
+all are finite; positions (x, y or z) lie in the room, [-20, 20] m; yaws in [-2pi, 2pi] rad;
+times in [0, 3600] s. Intervals are written as in maths: (0, 1] excludes 0 and includes 1.
 """
 
 import dataclasses
@@ -12,12 +16,18 @@ from dataclasses import field
 from hsr_handover.perception.attention import DEFAULT_ATTENTION_WEIGHT
 from hsr_handover.perception.cloud_map import SCENE_GNG_PARAMS, SIGNALS_PER_FRAME
 from hsr_handover.perception.pinhole import PinholeCamera
+from hsr_handover.scenario.typed_yaml import shorten
+
+MAX_KEY_PATH = 60
+MAX_EXPECTED = 140
+"""Longest key path and expectation an error repeats, so every error is one short line."""
 
 
 class ScenarioError(ValueError):
     """A scenario file is broken: names the file, the key path and what was expected."""
 
     def __init__(self, filename: str, key_path: str, expected: str):
+        key_path, expected = shorten(key_path, MAX_KEY_PATH), shorten(expected, MAX_EXPECTED)
         super().__init__(f"{filename}: {key_path}: {expected}")
         self.filename = filename
         self.key_path = key_path
@@ -29,7 +39,11 @@ class RobotConfig:
     """The HSR: model URL (package:// or a path relative to the scenario file), base pose on the
     floor [x, y, yaw] and the start posture by joint name. The file's joints are merged over the
     default posture (the hand tucked forward, the head tilted to see the table and the person);
-    joints named nowhere start at 0."""
+    joints named nowhere start at 0.
+
+    Ranges: model names an SDF or URDF file with the HSR's joints and head camera frame;
+    base_pose x, y in [-20, 20] m, yaw in [-2pi, 2pi] rad; each joint value in [-2pi, 2pi]
+    (rad, or m for arm_lift_joint), and within the joint's limits in the model."""
 
     model: str = "package://hsr_handover/hsrb/hsrb.sdf"
     base_pose: list[float] = field(default_factory=lambda: [0.0, 0.0, 0.0])
@@ -45,7 +59,10 @@ class RobotConfig:
 @dataclasses.dataclass
 class TableConfig:
     """A four-legged table: top centre [x, y] and yaw, top size [depth along its x, width along
-    its y], the height of the top surface and the top's thickness (m)."""
+    its y], the height of the top surface and the top's thickness (m).
+
+    Ranges: center each in [-20, 20] m; yaw in [-2pi, 2pi] rad; size each in (0, 5] m; height
+    in [0.3, 1.2] m; thickness in (0, height) m."""
 
     center: list[float] = field(default_factory=lambda: [0.85, 0.0])
     yaw: float = 0.0
@@ -62,6 +79,13 @@ class ObjectConfig:
     position: [x, y] of its centre on the table top, or [x, y, z] of its centre (then checked to
     rest on the top). color: a name from `OBJECT_COLORS`; colours must be distinct, since the
     robot tells objects apart by colour.
+
+    Ranges: name of at most 64 ASCII letters, digits and _, unique, and not a name the world
+    already uses ("table", "person", the robot model's name, Drake's "WorldModelInstance" and
+    "DefaultModelInstance", SDFormat's "world" and "__...__"); size each in (0, 0.5] m, the
+    smaller horizontal side at most the gripper's 0.12 m; position x, y (and z) in [-20, 20] m,
+    the footprint inside the table top; yaw in [-2pi, 2pi] rad; mass in (0, 1.2] kg (the
+    payload).
     """
 
     name: str = ""
@@ -81,6 +105,9 @@ class ActionConfig:
     start: when it begins (s). duration: how long it lasts (s); by default until the next action
     starts. The person rests between an action's end and the next one's start.
     arm: "right" or "left", the arm that points or reaches.
+
+    Ranges: start in [0, 3600] s, not before the previous action's; duration in (0, 3600] s;
+    point each in [-20, 20] m.
     """
 
     action: str = "rest"
@@ -94,7 +121,9 @@ class ActionConfig:
 @dataclasses.dataclass
 class PersonConfig:
     """An adult at the table: feet position [x, y] and yaw (facing its +x), height, posture
-    ("seated" or "standing") and the behaviour script."""
+    ("seated" or "standing") and the behaviour script.
+
+    Ranges: position each in [-20, 20] m; yaw in [-2pi, 2pi] rad; height in [1.2, 2.1] m."""
 
     position: list[float] = field(default_factory=lambda: [1.55, 0.0])
     yaw: float = 3.141592653589793
@@ -107,7 +136,10 @@ class PersonConfig:
 class CameraConfig:
     """The HSR's head RGB-D camera (an Xtion): image size, frame rate, horizontal field of view,
     the depth range it reports (m), and whether to render the ground-truth label image (for
-    scoring only; the robot never reads it; off saves about a quarter of the camera's time)."""
+    scoring only; the robot never reads it; off saves about a quarter of the camera's time).
+
+    Ranges: width and height integers in [16, 4096] px; rate_hz in (0, 120] Hz; fov_x in
+    (0, pi) rad; depth_range [near, far] with 0 < near < far <= 20 m."""
 
     width: int = 640
     height: int = 480
@@ -124,7 +156,10 @@ class CameraConfig:
 @dataclasses.dataclass
 class GngConfig:
     """The scene map's adaptive Growing Neural Gas (paper §3.1 names; DESIGN §3.1). The defaults
-    are the adaptive settings that reach the paper's ~4x node density under attention."""
+    are the adaptive settings that reach the paper's ~4x node density under attention.
+
+    Ranges: max_nodes an integer in [3, 5000]; lam and a_max integers in [1, 1e6]; mu1 and mu2
+    in (0, 1]; mu3 in [0, 1e6] 1/m; alpha and beta in [0, 1); e_min in [0, 1e6] m^2."""
 
     max_nodes: int = SCENE_GNG_PARAMS["max_nodes"]
     lam: int = SCENE_GNG_PARAMS["lam"]
@@ -140,7 +175,9 @@ class GngConfig:
 @dataclasses.dataclass
 class FocusConfig:
     """From `start` (s), attend to `focus`: "face", "hand", "object" (then `target` names the
-    object) or "none"."""
+    object) or "none".
+
+    Ranges: start in [0, 3600] s, not before the previous entry's."""
 
     start: float = 0.0
     focus: str = "none"
@@ -154,7 +191,11 @@ class PerceptionConfig:
     to `workspace` [x, y, z lower, x, y, z upper] (m) and learnt by the scene GNG with
     `signals_per_frame` signals per camera frame; attended regions are sampled `attention_weight`
     times more often. The skeleton sensor adds `pixel_sigma` pixels of noise and drops each
-    face keypoint with `face_drop_probability`."""
+    face keypoint with `face_drop_probability`.
+
+    Ranges: cloud_size integers each in [8, 1024] px; workspace each in [-20, 20] m, each lower
+    bound below its upper; signals_per_frame an integer in [1, 1e6]; attention_weight in
+    [1, 1e4]; pixel_sigma in [0, 100] px; face_drop_probability in [0, 1]."""
 
     enabled: bool = False
     cloud_size: list[int] = field(default_factory=lambda: [200, 200])
@@ -170,7 +211,11 @@ class PerceptionConfig:
 @dataclasses.dataclass
 class SimulationConfig:
     """Simulated duration (s), the plant's discrete time step (s), the random seed, and the frame
-    rate of the replay recording."""
+    rate of the replay recording.
+
+    Ranges: duration in (0, 3600] s; time_step in [1e-4, 0.01] s (below, a run of minutes
+    takes days; above, contact is not stable); seed an integer in [0, 2**32 - 1]; replay_fps
+    in (0, 120] Hz."""
 
     duration: float = 5.0
     time_step: float = 0.002
@@ -180,6 +225,8 @@ class SimulationConfig:
 
 @dataclasses.dataclass
 class Scenario:
+    """A whole scenario file: one mapping of these sections, each optional (defaults above)."""
+
     robot: RobotConfig = field(default_factory=RobotConfig)
     table: TableConfig = field(default_factory=TableConfig)
     objects: list[ObjectConfig] = field(default_factory=list)

@@ -12,7 +12,14 @@ from pydrake.common.value import AbstractValue
 from pydrake.geometry import ColorRenderCamera, DepthRenderCamera, FrameId, QueryObject
 from pydrake.math import RigidTransform
 from pydrake.systems.framework import Context, LeafSystem, State
-from pydrake.systems.sensors import ImageDepth32F, ImageLabel16I, ImageRgba8U
+from pydrake.systems.sensors import CameraInfo, ImageDepth32F, ImageLabel16I, ImageRgba8U
+
+from hsr_handover.perception.pinhole import PinholeCamera
+
+
+def to_camera_info(camera: PinholeCamera) -> CameraInfo:
+    """The same intrinsics as Drake's CameraInfo, for renderers and point-cloud systems."""
+    return CameraInfo(camera.width, camera.height, camera.fx, camera.fy, camera.cx, camera.cy)
 
 
 class HeadCamera(LeafSystem):

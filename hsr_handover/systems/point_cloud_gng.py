@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 from pydrake.common.value import AbstractValue
 from pydrake.perception import PointCloud
 from pydrake.systems.framework import BasicVector, Context, LeafSystem, State
@@ -17,19 +19,23 @@ from hsr_handover.perception.cloud_map import (
 from hsr_handover.topology.growing_neural_gas import GrowingNeuralGas
 
 STATS = ("node_count", "mean_node_error", "quantisation_error", "point_count")
+LEARNING_DELAY_S = 1e-3
 
 
 class PointCloudGng(LeafSystem):
-    """Adaptive Growing Neural Gas over world-frame point clouds, updated every `period` s.
+    """Adaptive Growing Neural Gas over world-frame point clouds, learning one frame every
+    `period` s, `delay` s after each camera capture.
 
-    Inputs: `point_cloud` (PointCloud in the world frame, e.g. from DepthImageToPointCloud) and
-    `attention` (a tuple of AttentionRegion; optional, unconnected means no attention).
-    Outputs: `graph` (GraphSnapshot), `frame_report` (FrameReport: what the last frame did, or
-    why it did nothing) and `stats` (vector: node count, mean node error, quantisation error
-    of the frame in m, point count).
+    Inputs: `point_cloud` (PointCloud in the world frame, e.g. from DepthImageToPointCloud),
+    `attention` (a tuple of AttentionRegion; optional, unconnected means no attention) and
+    `image_time` (float, s, the capture time of the frame behind the cloud; optional, recorded
+    in the report). Outputs: `graph` (GraphSnapshot), `frame_report` (FrameReport: what the
+    last frame did, or why it did nothing) and `stats` (vector: node count, mean node error,
+    quantisation error of the frame in m, point count).
 
-    The update reads the inputs as they were just before its tick; when the camera ticks at the
-    same instant, the map learns from the previous frame (one frame of latency).
+    Drake computes every update due at one instant from the state just before it, so an update
+    at the capture instant itself would learn the previous frame. Learning `delay` s later (the
+    default, 1 ms, is far below a frame period) learns the frame captured at this tick.
     """
 
     def __init__(
@@ -40,12 +46,18 @@ class PointCloudGng(LeafSystem):
         n_signals: int = SIGNALS_PER_FRAME,
         attention_weight: float = DEFAULT_ATTENTION_WEIGHT,
         seed: int = 0,
+        delay: float = LEARNING_DELAY_S,
     ):
         super().__init__()
+        if not 0 < delay < period:
+            raise ValueError(f"delay: expected 0 < delay < period ({period} s), got {delay}")
         self._workspace, self._n_signals = workspace, n_signals
         self._attention_weight = attention_weight
         self._cloud = self.DeclareAbstractInputPort("point_cloud", AbstractValue.Make(PointCloud()))
         self._attention = self.DeclareAbstractInputPort("attention", AbstractValue.Make(()))
+        self._image_time = self.DeclareAbstractInputPort(
+            "image_time", AbstractValue.Make(float("nan"))
+        )
         learner = GrowingNeuralGas(**gng_params, random_state=seed)
         self._learner = self.DeclareAbstractState(AbstractValue.Make(learner))
         self._graph = self.DeclareAbstractState(AbstractValue.Make(GraphSnapshot.empty()))
@@ -54,20 +66,21 @@ class PointCloudGng(LeafSystem):
         self.DeclareStateOutputPort("graph", self._graph)
         self.DeclareStateOutputPort("frame_report", self._report)
         self.DeclareVectorOutputPort("stats", len(STATS), self._calc_stats)
-        self.DeclarePeriodicUnrestrictedUpdateEvent(period, 0.0, self._learn)
+        self.DeclarePeriodicUnrestrictedUpdateEvent(period, delay, self._learn)
+
+    def _optional(self, port, context: Context, default):
+        return port.Eval(context) if port.HasValue(context) else default
 
     def _learn(self, context: Context, state: State) -> None:
         learner: GrowingNeuralGas = state.get_mutable_abstract_state(self._learner).get_value()
         cloud: PointCloud = self._cloud.Eval(context)
-        regions = self._attention.Eval(context) if self._attention.HasValue(context) else ()
+        regions = self._optional(self._attention, context, ())
         report = learn_frame(
-            learner,
-            cloud.xyzs().T,
-            self._workspace,
-            regions,
-            self._n_signals,
+            learner, cloud.xyzs().T, self._workspace, regions, self._n_signals,
             self._attention_weight,
-        )
+        )  # fmt: skip
+        image_time = self._optional(self._image_time, context, float("nan"))
+        report = dataclasses.replace(report, image_time=image_time)
         state.get_mutable_abstract_state(self._report).set_value(report)
         graph = GraphSnapshot.of(learner, context.get_time())
         state.get_mutable_abstract_state(self._graph).set_value(graph)

@@ -14,16 +14,10 @@ from pydrake.math import RigidTransform
 from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import ModelInstanceIndex
 from pydrake.systems.framework import DiagramBuilder
-from pydrake.systems.sensors import CameraInfo
 
 from hsr_handover.hsr import CAMERA_FRAME
 from hsr_handover.perception.pinhole import PinholeCamera
-from hsr_handover.systems.head_camera import HeadCamera
-
-
-def to_camera_info(camera: PinholeCamera) -> CameraInfo:
-    """The same intrinsics as Drake's CameraInfo, for renderers and point-cloud systems."""
-    return CameraInfo(camera.width, camera.height, camera.fx, camera.fy, camera.cx, camera.cy)
+from hsr_handover.systems.head_camera import HeadCamera, to_camera_info
 
 
 def add_head_camera(

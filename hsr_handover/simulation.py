@@ -1,0 +1,141 @@
+"""The station and the robot side by side, joined by ports: build the whole Diagram and run it.
+
+    station (the world)  --sensor outputs-->  robot  --commands-->  station
+
+`connect_robot` joins every robot input to the station output of the same name and every
+command the robot gives to the station input of the same name; it refuses a robot input named
+`truth_*`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+from pydrake.common import RandomGenerator
+from pydrake.geometry import Meshcat
+from pydrake.systems.analysis import Simulator
+from pydrake.systems.framework import Context, Diagram, DiagramBuilder, EventStatus
+
+from hsr_handover import interface
+from hsr_handover.replay import make_local_meshcat, start_recording, write_replay
+from hsr_handover.robot import Robot, build_robot
+from hsr_handover.scenario import Scenario
+from hsr_handover.station import Station, build_station, check_initial_clearance
+from hsr_handover.systems.graph_visualizer import add_graph_visualizer
+
+ProgressCallback = Callable[[float, float], None]
+
+
+@dataclasses.dataclass
+class Simulation:
+    """The whole Diagram with the station and the robot inside it."""
+
+    diagram: Diagram
+    station: Station
+    robot: Robot
+
+    def station_context(self, root: Context) -> Context:
+        return self.station.diagram.GetMyContextFromRoot(root)
+
+    def robot_context(self, root: Context) -> Context:
+        return self.robot.diagram.GetMyContextFromRoot(root)
+
+
+def connect_robot(builder: DiagramBuilder, station: Diagram, robot: Diagram) -> None:
+    """Connect `robot`'s inputs to `station`'s outputs and the robot's commands to the
+    station's command inputs, by name (both already added to `builder`)."""
+    for index in range(robot.num_input_ports()):
+        port = robot.get_input_port(index)
+        if port.get_name().startswith(interface.TRUTH_PREFIX):
+            raise ValueError(f"robot input {port.get_name()!r}: the robot may not read truth")
+        builder.Connect(station.GetOutputPort(port.get_name()), port)
+    for name in interface.COMMANDS:
+        builder.Connect(robot.GetOutputPort(name), station.GetInputPort(name))
+
+
+def add_station_and_robot(
+    builder: DiagramBuilder, scenario: Scenario, meshcat: Meshcat | None = None
+) -> tuple[Station, Robot]:
+    """Add the station and the robot for `scenario` to `builder`, connected; with `meshcat`,
+    the world and the robot's scene map are drawn there. For diagrams that add more (a test's
+    probe, an experiment's logger); `build_simulation` is the usual entry."""
+    station = build_station(scenario, meshcat)
+    robot = build_robot(scenario)
+    builder.AddSystem(station.diagram)
+    builder.AddSystem(robot.diagram)
+    connect_robot(builder, station.diagram, robot.diagram)
+    if meshcat is not None and "gng_graph" in robot.perception_outputs:
+        add_graph_visualizer(builder, robot.diagram.GetOutputPort("gng_graph"), meshcat)
+    return station, robot
+
+
+def build_simulation(scenario: Scenario, meshcat: Meshcat | None = None) -> Simulation:
+    """The station and the robot for `scenario`, connected, as one Diagram."""
+    builder = DiagramBuilder()
+    station, robot = add_station_and_robot(builder, scenario, meshcat)
+    diagram = builder.Build()
+    diagram.set_name("hsr_handover")
+    return Simulation(diagram, station, robot)
+
+
+@dataclasses.dataclass
+class RunReport:
+    """What a run measured: simulated and wall-clock seconds, their ratio, the replay file;
+    and the simulation with its final context, for scoring against ground truth."""
+
+    sim_time: float
+    wall_time: float
+    replay: Path | None
+    simulation: Simulation
+    context: Context
+
+    @property
+    def real_time_factor(self) -> float:
+        return self.sim_time / self.wall_time if self.wall_time > 0 else float("inf")
+
+
+def prepare_simulation(
+    scenario: Scenario, with_meshcat: bool
+) -> tuple[Simulation, Meshcat | None]:
+    """Build the simulation and check the world's start; returns it with its Meshcat (or
+    None)."""
+    meshcat = make_local_meshcat() if with_meshcat else None
+    simulation = build_simulation(scenario, meshcat)
+    check_initial_clearance(simulation.station)
+    return simulation, meshcat
+
+
+def run_scenario(
+    scenario: Scenario,
+    replay: Path | None = None,
+    progress: ProgressCallback | None = None,
+    monitor_factory: Callable[[Simulation], Callable[[Context], EventStatus]] | None = None,
+) -> RunReport:
+    """Simulate `scenario.simulation.duration` seconds; write the replay HTML when asked.
+    `monitor_factory(simulation)` gives a function the simulator calls after every step (an
+    experiment's recorder)."""
+    simulation, meshcat = prepare_simulation(scenario, with_meshcat=replay is not None)
+    simulator = Simulator(simulation.diagram)
+    if monitor_factory is not None:
+        simulator.set_monitor(monitor_factory(simulation))
+    simulation.diagram.SetRandomContext(
+        simulator.get_mutable_context(), RandomGenerator(scenario.simulation.seed)
+    )
+    if meshcat is not None:
+        start_recording(meshcat, scenario.simulation.replay_fps)
+    duration = scenario.simulation.duration
+    step = max(duration / 100.0, 0.02)
+    start = time.perf_counter()
+    simulator.Initialize()
+    now = 0.0
+    while now < duration - 1e-12:
+        now = min(now + step, duration)
+        simulator.AdvanceTo(now)
+        if progress is not None:
+            progress(now, duration)
+    wall = time.perf_counter() - start
+    written = write_replay(meshcat, replay) if meshcat is not None else None
+    return RunReport(now, wall, written, simulation, simulator.get_context())

@@ -1,0 +1,206 @@
+"""Build the station from a Scenario: the world only (the `MakeHardwareStation` pattern).
+
+The station holds the plant and scene graph (the HSR, the table, the objects, the person), the
+person's actor, the head camera and the simulated pose detector, and, when given a Meshcat, the
+visualizer. It holds no controller: the HSR follows whatever arrives on its command inputs.
+Ports, by the names in `hsr_handover.interface`:
+
+- inputs `hsr_desired_state`, `gripper_desired_opening` (no defaults: connect them);
+- sensor outputs `hsr_state_measured`, `gripper_opening_measured`, `camera_color_image`,
+  `camera_depth_image`, `camera_pose`, `camera_info`, `camera_image_time`,
+  `skeleton_keypoints`;
+- ground truth, for scoring and the person's own behaviour only: `truth_body_poses`,
+  `truth_contact_results`, `truth_person_state`, `truth_hsr_state`, `truth_query_object`,
+  `truth_label_image`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+from pydrake.common.value import AbstractValue
+from pydrake.geometry import (
+    MakeRenderEngineVtk,
+    Meshcat,
+    MeshcatVisualizer,
+    MeshcatVisualizerParams,
+    QueryObject,
+    SceneGraph,
+)
+from pydrake.multibody.parsing import Parser
+from pydrake.multibody.plant import AddMultibodyPlant, MultibodyPlant, MultibodyPlantConfig
+from pydrake.multibody.tree import ModelInstanceIndex
+from pydrake.systems.framework import Diagram, DiagramBuilder
+from pydrake.systems.primitives import ConstantValueSource
+
+from hsr_handover import interface
+from hsr_handover.hsr import actuated_joint_names, add_hsr
+from hsr_handover.human.behavior import PostureTimeline, posture_changes
+from hsr_handover.human.body import PERSON_JOINTS, BodyDimensions
+from hsr_handover.perception.skeleton import SkeletonNoise
+from hsr_handover.scenario import (
+    Scenario,
+    ScenarioError,
+    resolve_model_path,
+    robot_start_positions,
+)
+from hsr_handover.station.camera import add_head_camera
+from hsr_handover.station.hsr_interface import add_hsr_interface
+from hsr_handover.station.world import (
+    add_world,
+    couple_default_positions,
+    person_actions,
+    render_params,
+    set_default_positions,
+)
+from hsr_handover.systems.head_camera import HeadCamera, to_camera_info
+from hsr_handover.systems.human_actor import HumanActor
+from hsr_handover.systems.skeleton_sensor import SkeletonSensor
+
+RENDERER = "vtk"
+
+
+@dataclasses.dataclass
+class Station:
+    """The built world and handles into it; `diagram` exports the ports listed above."""
+
+    diagram: Diagram
+    plant: MultibodyPlant
+    scene_graph: SceneGraph
+    robot: ModelInstanceIndex
+    person: ModelInstanceIndex
+    table: ModelInstanceIndex
+    objects: dict[str, ModelInstanceIndex]
+    body: BodyDimensions
+    scenario: Scenario
+
+
+def _add_plant(builder: DiagramBuilder, scenario: Scenario):
+    config = MultibodyPlantConfig(
+        time_step=scenario.simulation.time_step, discrete_contact_approximation="lagged"
+    )
+    plant, scene_graph = AddMultibodyPlant(config, builder)
+    parser = Parser(plant)
+    robot = add_hsr(plant, parser, resolve_model_path(scenario.robot.model, scenario.source))
+    body = BodyDimensions.from_height(scenario.person.height, scenario.person.posture == "seated")
+    table, person, objects = add_world(plant, parser, scenario, body)
+    start = robot_start_positions(scenario)
+    set_default_positions(plant, robot, start, "robot.joints", scenario.source)
+    couple_default_positions(plant, robot, start)
+    return plant, scene_graph, robot, body, table, person, objects
+
+
+def _person_timeline(
+    plant: MultibodyPlant, person: ModelInstanceIndex, body: BodyDimensions, scenario: Scenario
+) -> PostureTimeline:
+    """The person's script as a posture timeline; sets the person's default posture to its
+    start, so call it before Finalize."""
+    timeline = PostureTimeline(posture_changes(body, person_actions(scenario)))
+    rest, _ = timeline.evaluate(0.0)
+    set_default_positions(
+        plant, person, dict(zip(PERSON_JOINTS, rest, strict=True)), "person", scenario.source
+    )
+    return timeline
+
+
+def _add_sensors(builder, plant, scene_graph, robot, person, scenario: Scenario) -> HeadCamera:
+    """The head camera and the simulated pose detector, capturing at the same instants."""
+    camera_config, perception = scenario.camera, scenario.perception
+    intrinsics = camera_config.pinhole()
+    camera = add_head_camera(
+        builder, plant, scene_graph, robot, intrinsics, camera_config.depth_range,
+        camera_config.rate_hz, camera_config.render_label, RENDERER,
+    )  # fmt: skip
+    noise = SkeletonNoise(
+        pixel_sigma=perception.pixel_sigma,
+        face_drop_probability=perception.face_drop_probability,
+    )
+    detector = builder.AddNamedSystem(
+        "pose_detector",
+        SkeletonSensor(
+            plant, person, intrinsics, 1.0 / camera_config.rate_hz, noise,
+            scenario.simulation.seed,
+        ),
+    )  # fmt: skip
+    builder.Connect(plant.get_body_poses_output_port(), detector.GetInputPort("body_poses"))
+    for name in ("depth_image", "camera_pose"):
+        builder.Connect(camera.GetOutputPort(name), detector.GetInputPort(name))
+    info = builder.AddNamedSystem(
+        "camera_intrinsics", ConstantValueSource(AbstractValue.Make(to_camera_info(intrinsics)))
+    )
+    exports = {
+        interface.CAMERA_COLOR_IMAGE: camera.GetOutputPort("color_image"),
+        interface.CAMERA_DEPTH_IMAGE: camera.GetOutputPort("depth_image"),
+        interface.CAMERA_POSE: camera.GetOutputPort("camera_pose"),
+        interface.CAMERA_IMAGE_TIME: camera.GetOutputPort("image_time"),
+        interface.CAMERA_INFO: info.get_output_port(),
+        interface.SKELETON_KEYPOINTS: detector.GetOutputPort("keypoints"),
+        interface.TRUTH_LABEL_IMAGE: camera.GetOutputPort("label_image"),
+    }
+    for name, port in exports.items():
+        builder.ExportOutput(port, name)
+    return camera
+
+
+def _export_truth(builder, plant, scene_graph, robot, person) -> None:
+    exports = {
+        interface.TRUTH_BODY_POSES: plant.get_body_poses_output_port(),
+        interface.TRUTH_CONTACT_RESULTS: plant.get_contact_results_output_port(),
+        interface.TRUTH_PERSON_STATE: plant.get_state_output_port(person),
+        interface.TRUTH_HSR_STATE: plant.get_state_output_port(robot),
+        interface.TRUTH_QUERY_OBJECT: scene_graph.get_query_output_port(),
+    }
+    for name, port in exports.items():
+        builder.ExportOutput(port, name)
+
+
+def build_station(scenario: Scenario, meshcat: Meshcat | None = None) -> Station:
+    """Build the world's Diagram (ports in the module docstring). With `meshcat`, the world is
+    drawn there at the scenario's replay rate."""
+    builder = DiagramBuilder()
+    plant, scene_graph, robot, body, table, person, objects = _add_plant(builder, scenario)
+    timeline = _person_timeline(plant, person, body, scenario)
+    plant.Finalize()
+    actor = builder.AddNamedSystem(
+        "human_actor", HumanActor(timeline, actuated_joint_names(plant, person))
+    )
+    builder.Connect(actor.get_output_port(), plant.get_desired_state_input_port(person))
+    add_hsr_interface(builder, plant, robot)
+    scene_graph.AddRenderer(RENDERER, MakeRenderEngineVtk(render_params()))
+    _add_sensors(builder, plant, scene_graph, robot, person, scenario)
+    _export_truth(builder, plant, scene_graph, robot, person)
+    if meshcat is not None:
+        params = MeshcatVisualizerParams(publish_period=1.0 / scenario.simulation.replay_fps)
+        MeshcatVisualizer.AddToBuilder(builder, scene_graph, meshcat, params)
+    diagram = builder.Build()
+    diagram.set_name("station")
+    return Station(diagram, plant, scene_graph, robot, person, table, objects, body, scenario)
+
+
+def check_initial_clearance(station: Station, tolerance: float = 1e-3) -> None:
+    """Raise ScenarioError when the robot or the person starts intersecting the table (or each
+    other) by more than `tolerance` m, as measured on the built scene's collision geometry."""
+    plant, scenario = station.plant, station.scenario
+    context = station.diagram.CreateDefaultContext()
+    query: QueryObject = station.diagram.GetOutputPort(interface.TRUTH_QUERY_OBJECT).Eval(context)
+    inspector = query.inspector()
+    owners = {
+        station.robot: ("robot.base_pose", "the robot"),
+        station.person: ("person.position", "the person"),
+        station.table: ("table.center", "the table"),
+    }
+    for pair in query.ComputePointPairPenetration():
+        if pair.depth <= tolerance:
+            continue
+        instances = [
+            plant.GetBodyFromFrameId(inspector.GetFrameId(geometry)).model_instance()
+            for geometry in (pair.id_A, pair.id_B)
+        ]
+        named = [owners[i] for i in instances if i in owners]
+        if len(named) == 2 and named[0] != named[1]:
+            (key, who), (_, other) = sorted(named, key=lambda n: n[1] == "the table")
+            raise ScenarioError(
+                scenario.source,
+                key,
+                f"expected {who} clear of {other}; they intersect by {pair.depth * 100:.1f} cm",
+            )

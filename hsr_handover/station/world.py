@@ -1,0 +1,114 @@
+"""What the world holds: the table, the objects and the person from a scenario's numbers, and the
+robot's and the person's start configurations."""
+
+from __future__ import annotations
+
+import numpy as np
+from pydrake.geometry import LightParameter, RenderEngineVtkParams
+from pydrake.math import RigidTransform, RollPitchYaw
+from pydrake.multibody.parsing import Parser
+from pydrake.multibody.plant import MultibodyPlant
+from pydrake.multibody.tree import ModelInstanceIndex
+
+from hsr_handover.hsr import GRIPPER_JOINT, GRIPPER_MIMIC_JOINT, TORSO_JOINT
+from hsr_handover.human.behavior import Action
+from hsr_handover.human.body import BodyDimensions
+from hsr_handover.scenario import Scenario, ScenarioError, object_center
+from hsr_handover.scene.object_models import object_sdf
+from hsr_handover.scene.person_model import person_sdf
+from hsr_handover.scene.table_model import table_sdf
+
+
+def person_pose(scenario: Scenario) -> RigidTransform:
+    """Pose of the person frame (floor below the hips, facing +x) in the world."""
+    x, y = scenario.person.position
+    return RigidTransform(RollPitchYaw(0, 0, scenario.person.yaw), [x, y, 0.0])
+
+
+def couple_default_positions(
+    plant: MultibodyPlant, robot: ModelInstanceIndex, start: dict[str, float]
+) -> None:
+    """Start coupled joints consistent, or the mimic constraints snap them on the first step."""
+    lift = start.get("arm_lift_joint", 0.0)
+    plant.GetJointByName(TORSO_JOINT, robot).set_default_positions([0.5 * lift])
+    finger = start.get(GRIPPER_JOINT, 0.0)
+    plant.GetJointByName(GRIPPER_MIMIC_JOINT, robot).set_default_positions([finger])
+
+
+def person_actions(scenario: Scenario) -> list[Action]:
+    """The scenario's behaviour script with object names resolved to points in the person frame.
+
+    The actor is part of the simulated world, so it may know where the objects really are.
+    """
+    to_person = person_pose(scenario).inverse()
+    centers = {obj.name: object_center(scenario, obj) for obj in scenario.objects}
+    actions = []
+    for item in scenario.person.behavior:
+        world_point = centers.get(item.target) if item.target else None
+        if item.action == "reach_to":
+            world_point = np.asarray(item.point, dtype=float)
+        point = None if world_point is None else to_person @ world_point
+        end = None if item.duration is None else item.start + item.duration
+        actions.append(Action(item.action, item.start, end, point, item.arm))
+    return actions
+
+
+def add_world(
+    plant: MultibodyPlant, parser: Parser, scenario: Scenario, body: BodyDimensions
+) -> tuple[ModelInstanceIndex, ModelInstanceIndex, dict[str, ModelInstanceIndex]]:
+    """Add the table, the person and the objects; returns their model instances."""
+    table = scenario.table
+    table_instance = parser.AddModelsFromString(
+        table_sdf(*table.size, table.height, table.thickness), "sdf"
+    )[0]
+    X_WT = RigidTransform(RollPitchYaw(0, 0, table.yaw), [*table.center, 0.0])
+    plant.WeldFrames(plant.world_frame(), plant.GetFrameByName("table", table_instance), X_WT)
+
+    person = parser.AddModelsFromString(person_sdf(body), "sdf")[0]
+    plant.WeldFrames(
+        plant.world_frame(), plant.GetFrameByName("pelvis", person), person_pose(scenario)
+    )
+    # The person's muscles hold the limbs wherever the actor puts them; modelling the fight
+    # against gravity would only add tracking lag nobody measures.
+    plant.set_gravity_enabled(person, False)
+
+    objects = {}
+    for obj in scenario.objects:
+        instance = parser.AddModelsFromString(
+            object_sdf(obj.name, obj.shape, obj.size, obj.color, obj.mass), "sdf"
+        )[0]
+        pose = RigidTransform(RollPitchYaw(0, 0, obj.yaw), object_center(scenario, obj))
+        plant.SetDefaultFloatingBaseBodyPose(plant.GetBodyByName(obj.name, instance), pose)
+        objects[obj.name] = instance
+    return table_instance, person, objects
+
+
+def set_default_positions(
+    plant: MultibodyPlant,
+    instance: ModelInstanceIndex,
+    positions: dict[str, float],
+    key: str,
+    source: str,
+) -> None:
+    for name, value in positions.items():
+        if not plant.HasJointNamed(name, instance):
+            raise ScenarioError(source, f"{key}.{name}", "expected a joint name of the model")
+        joint = plant.GetJointByName(name, instance)
+        lower, upper = joint.position_lower_limits()[0], joint.position_upper_limits()[0]
+        if not lower - 1e-9 <= value <= upper + 1e-9:
+            raise ScenarioError(
+                source, f"{key}.{name}", f"expected a value in [{lower:g}, {upper:g}], got {value}"
+            )
+        joint.set_default_positions([value])
+
+
+def render_params() -> RenderEngineVtkParams:
+    """Room lighting: a ceiling light plus a dim headlight. With the headlight alone, surfaces
+    seen at grazing angles (the table top, the tops of objects) render nearly black."""
+    ceiling = LightParameter(
+        type="directional", frame="world", direction=[0.2, 0.1, -1.0], intensity=0.9
+    )
+    headlight = LightParameter(
+        type="directional", frame="camera", direction=[0, 0, 1], intensity=0.45
+    )
+    return RenderEngineVtkParams(lights=[ceiling, headlight])
