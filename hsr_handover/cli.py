@@ -109,7 +109,7 @@ class _ProgressBar:
 
 def _run(args: argparse.Namespace) -> int:
     from hsr_handover.scenario import load_scenario
-    from hsr_handover.simulate import run_scenario
+    from hsr_handover.simulation import run_scenario
 
     scenario = load_scenario(args.scenario)
     _apply_overrides(scenario, args)
@@ -124,10 +124,10 @@ def _run(args: argparse.Namespace) -> int:
 
 def _validate(args: argparse.Namespace) -> int:
     from hsr_handover.scenario import load_scenario
-    from hsr_handover.simulate import prepare_station
+    from hsr_handover.simulation import prepare_simulation
 
     scenario = load_scenario(args.scenario)
-    prepare_station(scenario, with_meshcat=False)
+    prepare_simulation(scenario, with_meshcat=False)
     print(
         f"ok: {args.scenario} ({len(scenario.objects)} objects, "
         f"{len(scenario.person.behavior)} actions, {scenario.simulation.duration:g} s)"

@@ -32,7 +32,7 @@ from hsr_handover.perception.attention import (
 )
 from hsr_handover.perception.cloud_map import GraphSnapshot, Workspace
 from hsr_handover.scenario import Scenario
-from hsr_handover.simulate import ProgressCallback, RunReport, run_scenario
+from hsr_handover.simulation import ProgressCallback, RunReport, Simulation, run_scenario
 from hsr_handover.station import Station
 
 SETTLE_BAND = 0.05  # a change smaller than 5% of the level is no step to settle
@@ -217,9 +217,10 @@ class AttentionRecorder:
     every region, averaged at the end. A region holds only a few nodes (a hand, about five), so
     one frame's ratio moves by a fifth with a single node; thirty frames steady it."""
 
-    def __init__(self, station: Station):
-        scenario = station.scenario
-        self.station, self.period = station, 1.0 / scenario.camera.rate_hz
+    def __init__(self, simulation: Simulation):
+        scenario = simulation.station.scenario
+        self.station, self.period = simulation.station, 1.0 / scenario.camera.rate_hz
+        self.robot = simulation.robot.diagram
         self.schedule = list(scenario.perception.attention)
         self.starts = [change.start for change in self.schedule]
         self.ends = [*self.starts[1:], scenario.simulation.duration]
@@ -237,8 +238,9 @@ class AttentionRecorder:
         self.next_sample += self.period
         phase = int(np.searchsorted(self.starts, time + 1e-9, side="right")) - 1
         regions = truth_regions(self.station, context)
-        graph = self.station.diagram.GetOutputPort("gng_graph").Eval(context)
-        stats = self.station.diagram.GetOutputPort("gng_stats").Eval(context)
+        robot_context = self.robot.GetMyContextFromRoot(context)
+        graph = self.robot.GetOutputPort("gng_graph").Eval(robot_context)
+        stats = self.robot.GetOutputPort("gng_stats").Eval(robot_context)
         attended = 0
         if phase >= 0 and self.schedule[phase].focus != "none":
             change = self.schedule[phase]
@@ -253,7 +255,8 @@ class AttentionRecorder:
         return time >= end - min(SETTLED_TAIL_S, (end - start) / 2)
 
     def _density_ratios(self, context: Context, graph: GraphSnapshot, regions: dict) -> dict:
-        cloud = self.station.diagram.GetOutputPort("point_cloud").Eval(context).xyzs().T
+        robot_context = self.robot.GetMyContextFromRoot(context)
+        cloud = self.robot.GetOutputPort("point_cloud").Eval(robot_context).xyzs().T
         cloud = cloud.astype(float)
         areas = pixel_areas(cloud, *self.cloud_size)
         inside = self.workspace.contains(cloud)
@@ -309,8 +312,8 @@ def run_attention(
     scenario.perception.enabled = True
     recorders: list[AttentionRecorder] = []
 
-    def make_recorder(station: Station) -> AttentionRecorder:
-        recorders.append(AttentionRecorder(station))
+    def make_recorder(simulation: Simulation) -> AttentionRecorder:
+        recorders.append(AttentionRecorder(simulation))
         return recorders[-1]
 
     report = run_scenario(scenario, replay, progress, monitor_factory=make_recorder)
