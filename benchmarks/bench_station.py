@@ -16,6 +16,7 @@ from pydrake.systems.analysis import Simulator
 
 from hsr_handover.hsr import CAMERA_FRAME
 from hsr_handover.scenario import load_scenario
+from hsr_handover.simulation import build_simulation
 from hsr_handover.station import build_station
 
 DEMO = Path(__file__).resolve().parents[1] / "scenarios" / "demo.yaml"
@@ -25,8 +26,7 @@ def _time_run(duration: float, camera_rate: float, render_label: bool = True) ->
     scenario = load_scenario(DEMO)
     scenario.camera.rate_hz = camera_rate
     scenario.camera.render_label = render_label
-    station = build_station(scenario)
-    simulator = Simulator(station.diagram)
+    simulator = Simulator(build_simulation(scenario).diagram)
     simulator.Initialize()
     start = time.perf_counter()
     simulator.AdvanceTo(duration)
@@ -38,7 +38,7 @@ def _time_render(repeats: int = 12) -> dict[str, float]:
     station = build_station(load_scenario(DEMO))
     camera = station.diagram.GetSubsystemByName("head_camera")
     context = station.diagram.CreateDefaultContext()
-    query = station.diagram.GetOutputPort("query_object").Eval(context)
+    query = station.diagram.GetOutputPort("truth_query_object").Eval(context)
     frame = station.plant.GetFrameByName(CAMERA_FRAME, station.robot)
     X_WC = frame.CalcPoseInWorld(station.plant.GetMyContextFromRoot(context))
     world = station.scene_graph.model_inspector().world_frame_id()
