@@ -10,17 +10,19 @@ command the robot gives to the station input of the same name; it refuses a robo
 from __future__ import annotations
 
 import dataclasses
+import math
 import time
 from collections.abc import Callable
 from pathlib import Path
 
+import numpy as np
 from pydrake.common import RandomGenerator
 from pydrake.geometry import Meshcat
 from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import Context, Diagram, DiagramBuilder, EventStatus
 
 from hsr_handover import interface
-from hsr_handover.replay import make_local_meshcat, start_recording, write_replay
+from hsr_handover.replay import frame_view, make_local_meshcat, start_recording, write_replay
 from hsr_handover.robot import Robot, build_robot
 from hsr_handover.scenario import Scenario
 from hsr_handover.station import Station, build_station, check_initial_clearance
@@ -97,15 +99,25 @@ class RunReport:
         return self.sim_time / self.wall_time if self.wall_time > 0 else float("inf")
 
 
-def prepare_simulation(
-    scenario: Scenario, with_meshcat: bool
-) -> tuple[Simulation, Meshcat | None]:
+def prepare_simulation(scenario: Scenario, with_meshcat: bool) -> tuple[Simulation, Meshcat | None]:
     """Build the simulation and check the world's start; returns it with its Meshcat (or
     None)."""
     meshcat = make_local_meshcat() if with_meshcat else None
     simulation = build_simulation(scenario, meshcat)
     check_initial_clearance(simulation.station)
     return simulation, meshcat
+
+
+def _scene_points(scenario: Scenario) -> np.ndarray:
+    """The robot, the table and the person: the replay opens framed on their bounding box."""
+    robot_xy, table, person = list(scenario.robot.base_pose[:2]), scenario.table, scenario.person
+    half = float(np.hypot(*table.size)) / 2  # the table's circumscribed circle: any yaw
+    cx, cy = table.center
+    return np.array([
+        [*robot_xy, 0.0], [*robot_xy, 1.35],  # the HSR up to its head, arm raised
+        [cx - half, cy - half, 0.0], [cx + half, cy + half, table.height],
+        [*person.position, 0.0], [*person.position, person.height],
+    ])  # fmt: skip
 
 
 def run_scenario(
@@ -125,14 +137,17 @@ def run_scenario(
         simulator.get_mutable_context(), RandomGenerator(scenario.simulation.seed)
     )
     if meshcat is not None:
+        frame_view(meshcat, _scene_points(scenario), side=scenario.robot.base_pose[:2])
         start_recording(meshcat, scenario.simulation.replay_fps)
     duration = scenario.simulation.duration
-    step = max(duration / 100.0, 0.02)
+    # At most 100 progress reports, at least 20 ms apart; counted in whole steps so the last
+    # lands on the duration itself, not a rounding error short of it.
+    steps = max(1, min(100, math.ceil(duration / 0.02)))
     start = time.perf_counter()
     simulator.Initialize()
     now = 0.0
-    while now < duration - 1e-12:
-        now = min(now + step, duration)
+    for step in range(1, steps + 1):
+        now = duration if step == steps else duration * step / steps
         simulator.AdvanceTo(now)
         if progress is not None:
             progress(now, duration)

@@ -1,11 +1,11 @@
 """The robot's perception (DESIGN §2), fed only by the station's sensor ports:
 
-    camera_depth_image -> DepthDownsampler -> DepthImageToPointCloud -> PointCloudGng
-    camera_color_image + depth ----------> ObjectDetector ---------+--> DetectionCrossCheck
-                                                                   |    (against the GNG)
-    skeleton_keypoints + depth ----------> SkeletonLifter ---------+-> AttentionFocus -+
-                                                                                      v
-                                                            PointCloudGng `attention` input
+camera_depth_image -> DepthDownsampler -> DepthImageToPointCloud -> PointCloudGng
+camera_color_image + depth ----------> ObjectDetector ---------+--> DetectionCrossCheck
+                                                               |    (against the GNG)
+skeleton_keypoints + depth ----------> SkeletonLifter ---------+-> AttentionFocus -+
+                                                                                  v
+                                                        PointCloudGng `attention` input
 """
 
 from __future__ import annotations

@@ -77,16 +77,18 @@ class Interval:
         return bool(above and below)  # False for NaN, which compares False with everything
 
     def __str__(self) -> str:
-        low, high = (f"{bound:g}" if isinstance(bound, float) else str(bound) for bound in self)
+        low, high = (_format(bound) for bound in (self.low, self.high))
         text = f"{'(['[not self.open_low]}{low}, {high}{')]'[not self.open_high]}"
         return f"{text} ({self.unit})" if self.unit else text
-
-    def __iter__(self) -> Iterator[float]:
-        return iter((self.low, self.high))
 
     @property
     def noun(self) -> str:
         return "an integer" if self.integer else "a number"
+
+
+def _format(number: float) -> str:
+    """An int in full (2**32 - 1 is 4294967295, not 4.29497e+09), a float briefly."""
+    return f"{number:g}" if isinstance(number, float) else str(number)
 
 
 TAU = 2 * math.pi
@@ -98,6 +100,7 @@ RATE = Interval(0.0, 120.0, "Hz", open_low=True)
 UNIT_RATE = Interval(0.0, 1.0, open_low=True)  # GNG learning rates
 FRACTION = Interval(0.0, 1.0, open_high=True)  # GNG error reductions
 COUNT = Interval(1, 1_000_000, integer=True)
+JOINT = Interval(-TAU, TAU, "rad or m")
 
 
 def check_scenario(scenario: Scenario) -> None:
@@ -172,7 +175,7 @@ def _check_robot(scenario: Scenario, fail: Fail) -> tuple[str, ...]:
     _number(fail, "robot.base_pose[2]", robot.base_pose[2], YAW)
     for name, value in robot.joints.items():
         # Each joint's own limits are checked against the model when the station is built.
-        _number(fail, f"robot.joints.{name}", value, Interval(-TAU, TAU, "rad or m"))
+        _number(fail, f"robot.joints.{name}", value, JOINT)
     return models
 
 
@@ -220,7 +223,7 @@ def robot_model_names(path: Path, mtime_ns: int, size: int) -> tuple[str, ...]:
 def _check_simulation(scenario: Scenario, fail: Fail) -> None:
     sim = scenario.simulation
     _number(fail, "simulation.duration", sim.duration, DURATION)
-    # Below 0.1 ms a run of minutes takes days; above 10 ms contact is not stable.
+    # Below 0.1 ms an hour-long run would take days; above 10 ms contact is not stable.
     _number(fail, "simulation.time_step", sim.time_step, Interval(1e-4, 0.01, "s"))
     _number(fail, "simulation.seed", sim.seed, Interval(0, 2**32 - 1, integer=True))
     _number(fail, "simulation.replay_fps", sim.replay_fps, RATE)

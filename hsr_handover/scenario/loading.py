@@ -31,19 +31,31 @@ def load_scenario(filename: str | Path) -> Scenario:
             raise SchemaMismatch("(file)", "expected a mapping of scenario sections, got none")
         check_against_schema(raw, Scenario)
     except yaml.YAMLError as error:
-        mark = getattr(error, "problem_mark", None)
-        where = f"line {mark.line + 1}" if mark else "(file)"
-        raise ScenarioError(name, where, "expected valid YAML") from None
+        raise _yaml_error(name, text, error) from None
     except SchemaMismatch as error:
         raise ScenarioError(name, error.key_path, error.expected) from None
-    if "source" in raw:
-        raise ScenarioError(name, "source", "unknown key; it is set by the loader")
     # Drake parses the same text again; the walk above has ruled out everything it would
     # reject or read differently.
     scenario = yaml_load_typed(schema=Scenario, data=text, defaults=Scenario())
     scenario.source = name
     check_scenario(scenario)
     return scenario
+
+
+def _yaml_error(name: str, text: str, error: yaml.YAMLError) -> ScenarioError:
+    """The line and the problem PyYAML found (a ReaderError has a position instead of a mark)."""
+    mark = getattr(error, "problem_mark", None)
+    position = getattr(error, "position", None)
+    if mark is not None:
+        where = f"line {mark.line + 1}"
+    elif position is not None:
+        where = f"line {text.count(chr(10), 0, position) + 1}"
+    else:
+        where = "(file)"
+    problem = getattr(error, "problem", None) or getattr(error, "reason", None)
+    return ScenarioError(
+        name, where, f"expected valid YAML ({problem})" if problem else "expected valid YAML"
+    )
 
 
 def _read_text(path: Path, name: str) -> str:

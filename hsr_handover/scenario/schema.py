@@ -16,7 +16,7 @@ from dataclasses import field
 from hsr_handover.perception.attention import DEFAULT_ATTENTION_WEIGHT
 from hsr_handover.perception.cloud_map import SCENE_GNG_PARAMS, SIGNALS_PER_FRAME
 from hsr_handover.perception.pinhole import PinholeCamera
-from hsr_handover.scenario.typed_yaml import shorten
+from hsr_handover.scenario.typed_yaml import YAML_KEY, shorten
 
 MAX_KEY_PATH = 60
 MAX_EXPECTED = 140
@@ -234,5 +234,6 @@ class Scenario:
     camera: CameraConfig = field(default_factory=CameraConfig)
     perception: PerceptionConfig = field(default_factory=PerceptionConfig)
     simulation: SimulationConfig = field(default_factory=SimulationConfig)
-    # Where the scenario came from, for error messages and relative model paths; not in YAML.
-    source: str = "<scenario>"
+    # Where the scenario came from, for error messages and relative model paths; set by the
+    # loader, never read from YAML (the schema walk treats it as an unknown key).
+    source: str = field(default="<scenario>", metadata={YAML_KEY: False})

@@ -15,6 +15,9 @@ from typing import Any
 MAX_ECHO = 32
 """The most characters of a value an error message repeats."""
 
+YAML_KEY = "yaml_key"
+"""Field metadata: `field(metadata={YAML_KEY: False})` keeps a dataclass field out of YAML."""
+
 
 class SchemaMismatch(ValueError):
     """Raw data does not fit the schema at `key_path`; the message says what was expected."""
@@ -82,13 +85,20 @@ def _check_dataclass(data: Any, schema: type, path: str) -> None:
     if not isinstance(data, dict):
         expected = f"expected a mapping of {schema.__name__} fields, got {_kind(data)}"
         raise SchemaMismatch(where(path), expected)
-    hints = typing.get_type_hints(schema)
+    hints = _yaml_fields(schema)
     for key, value in data.items():
         key_path = child(path, key)
         if key not in hints:
             known = ", ".join(hints)
             raise SchemaMismatch(key_path, f"unknown key; expected one of: {known}")
         check_against_schema(value, hints[key], key_path)
+
+
+def _yaml_fields(schema: type) -> dict[str, type]:
+    """The fields a YAML mapping may set, by name, with their types."""
+    hints = typing.get_type_hints(schema)
+    fields = dataclasses.fields(schema)
+    return {f.name: hints[f.name] for f in fields if f.metadata.get(YAML_KEY, True)}
 
 
 def _check_list(data: Any, item_type: type, path: str) -> None:

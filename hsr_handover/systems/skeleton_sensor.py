@@ -108,9 +108,7 @@ class SkeletonSensor(LeafSystem):
         rng = np.random.default_rng([self._seed, round(time * 1e6)])
         X_WC = self._pose.Eval(context).GetAsMatrix4()
         depth = image.data[:, :, 0]
-        output.set_value(
-            detect_keypoints(keypoints_W, self._camera, X_WC, depth, self._noise, rng)
-        )
+        output.set_value(detect_keypoints(keypoints_W, self._camera, X_WC, depth, self._noise, rng))
 
 
 class RecordedSkeletonSource(LeafSystem):
