@@ -1,0 +1,205 @@
+"""The intent recogniser on synthetic skeletons: eqs. 16-17, rays, one frame, the dwell."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from hsr_handover.human.aiming import arm_points, pointing_arm_angles, rot_z
+from hsr_handover.human.behavior import aim_head, head_rotation, reaching_arm_angles
+from hsr_handover.human.body import BodyDimensions
+from hsr_handover.intent import IntentParams, IntentTracker, Ray, elbow_angle_deg, face_normal
+from hsr_handover.intent.rays import ray_distances, tilt_down
+from hsr_handover.intent.tracker import (
+    GAZE_ELSEWHERE,
+    NO_CANDIDATES,
+    NO_FACE,
+    NO_POINTING,
+    NO_SKELETON,
+    POINTING,
+    RECOGNISED,
+    judge_frame,
+)
+from hsr_handover.perception.coco18 import COCO18_KEYPOINTS, keypoint_index
+
+BODY = BodyDimensions.from_height(1.70, seated=True)
+PERSON_AT, PERSON_YAW = np.array([1.75, 0.0, 0.0]), math.pi  # facing the robot (-x)
+# Three cups 22 cm apart on a 0.72 m table, as in the point_* scenarios.
+CUPS = [("red", np.array([0.80, -0.22, 0.77])), ("green", np.array([0.80, 0.0, 0.77])),
+        ("blue", np.array([0.80, 0.22, 0.77]))]  # fmt: skip
+
+
+def _to_world(points: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    return {name: PERSON_AT + rot_z(PERSON_YAW) @ p for name, p in points.items()}
+
+
+def _to_person(point: np.ndarray) -> np.ndarray:
+    return rot_z(PERSON_YAW).T @ (point - PERSON_AT)
+
+
+def keypoints(look_at=None, point_with=None, point_at=None, arm_angles=None):
+    """World COCO-18 keypoints of the seated person: the head aimed at `look_at` (or level),
+    the `point_with` arm straight at `point_at` (or given `arm_angles`), the other resting."""
+    pivot = BODY.neck_pivot()
+    yaw_pitch = aim_head(BODY, _to_person(look_at)) if look_at is not None else (0.0, 0.2)
+    face = {k: pivot + head_rotation(*yaw_pitch) @ v for k, v in BODY.face_points().items()}
+    points = {**face, "neck": pivot}
+    for side in ("right", "left"):
+        if side == point_with:
+            to_target = _to_person(point_at) - BODY.shoulder(side) if point_at is not None else 0
+            angles = arm_angles if arm_angles is not None else pointing_arm_angles(to_target)
+        else:
+            angles = np.array([-0.25, 0.08 * (1 if side == "left" else -1), 0.0, -1.5, 0.0])
+        arm = arm_points(BODY, side, angles)
+        prefix = side[0]
+        points |= {f"{prefix}_shoulder": BODY.shoulder(side), f"{prefix}_elbow": arm["elbow"],
+                   f"{prefix}_wrist": arm["wrist"]}  # fmt: skip
+        legs = BODY.leg_points(side)
+        points |= {f"{prefix}_{joint}": legs[joint] for joint in ("hip", "knee", "ankle")}
+    world = _to_world(points)
+    return np.array([world[name] for name in COCO18_KEYPOINTS]), np.full(18, 0.9)
+
+
+def _without(confidence: np.ndarray, *names: str) -> np.ndarray:
+    confidence = confidence.copy()
+    confidence[[keypoint_index(name) for name in names]] = 0.0
+    return confidence
+
+
+def test_elbow_angle_is_eq_16():
+    assert elbow_angle_deg([0, 0, 1], [0, 0, 0], [0, 0, -1]) == pytest.approx(180.0)
+    assert elbow_angle_deg([0, 0, 1], [0, 0, 0], [1, 0, 0]) == pytest.approx(90.0)
+    assert math.isnan(elbow_angle_deg([0, 0, 0], [0, 0, 0], [1, 0, 0]))
+
+
+def test_face_normal_faces_away_from_the_head_and_tilts_up_by_the_face_tilt():
+    points, _ = keypoints()  # head level-ish (pitch 0.2 down), facing -x
+    nose, r_eye, l_eye = (points[keypoint_index(n)] for n in ("nose", "r_eye", "l_eye"))
+    normal = face_normal(nose, r_eye, l_eye)
+    assert normal[0] < -0.8  # toward the robot, away from the back of the head
+    level = tilt_down(normal, IntentParams().face_tilt_deg)
+    pitch_down = math.degrees(-math.asin(level[2]))
+    assert pitch_down == pytest.approx(math.degrees(0.2), abs=1.0)  # the head's own pitch
+    assert face_normal(nose, nose, nose) is None
+
+
+def test_ray_distance_is_perpendicular_ahead_and_to_the_origin_behind():
+    ray = Ray.through([0, 0, 0], [1, 0, 0])
+    distances = ray_distances(ray, np.array([[2.0, 0.5, 0.0], [-1.0, 0.0, 0.0]]))
+    np.testing.assert_allclose(distances, [0.5, 1.0])
+    assert Ray.through([1, 1, 1], [1, 1, 1]) is None
+
+
+@pytest.mark.parametrize("arm", ["right", "left"])
+@pytest.mark.parametrize("index", [0, 1, 2])
+def test_a_frame_pointing_and_looking_at_a_cup_names_it(arm, index):
+    label, center = CUPS[index]
+    points, confidence = keypoints(look_at=center, point_with=arm, point_at=center)
+    judgement = judge_frame(points, confidence, CUPS, IntentParams())
+    assert (judgement.candidate, judgement.status, judgement.arm) == (label, POINTING, arm)
+    assert judgement.elbow_angle_deg == pytest.approx(180.0, abs=1e-4)
+    assert judgement.clarity > 0.5
+
+
+def test_the_ray_kinds_start_where_they_say():
+    label, center = CUPS[2]
+    points, confidence = keypoints(look_at=center, point_with="right", point_at=center)
+    starts = {
+        "shoulder_wrist": points[keypoint_index("r_shoulder")],
+        "elbow_wrist": points[keypoint_index("r_elbow")],
+        "eye_wrist": (points[keypoint_index("r_eye")] + points[keypoint_index("l_eye")]) / 2,
+    }
+    for kind, start in starts.items():
+        judgement = judge_frame(points, confidence, CUPS, IntentParams(pointing_ray=kind))
+        np.testing.assert_allclose(judgement.pointing.origin, start)
+    # This arm lies on the shoulder-to-cup line, so the forearm's ray finds the cup too.
+    elbow = judge_frame(points, confidence, CUPS, IntentParams(pointing_ray="elbow_wrist"))
+    assert elbow.candidate == label
+
+
+def test_frames_that_do_not_ask_say_why():
+    _, center = CUPS[0]
+    params = IntentParams()
+    points, confidence = keypoints(look_at=center, point_with="right", point_at=center)
+    assert judge_frame(points, np.zeros(18), CUPS, params).status == NO_SKELETON
+    assert judge_frame(points, confidence, [], params).status == NO_CANDIDATES
+    bent = reaching_arm_angles(_to_person(center) - BODY.shoulder("right"), BODY)
+    bent[3] = -1.2  # an elbow bent by 70 degrees: gesturing, not pointing
+    points, confidence = keypoints(look_at=center, point_with="right", arm_angles=bent)
+    assert judge_frame(points, confidence, CUPS, params).status == NO_POINTING
+    # Pointing at the red cup while looking at the blue one, 44 cm away.
+    points, confidence = keypoints(look_at=CUPS[2][1], point_with="right", point_at=center)
+    assert judge_frame(points, confidence, CUPS, params).status == GAZE_ELSEWHERE
+
+
+def test_without_a_face_the_frame_is_unsure():
+    label, center = CUPS[1]
+    points, confidence = keypoints(look_at=center, point_with="right", point_at=center)
+    judgement = judge_frame(points, _without(confidence, "nose"), CUPS, IntentParams())
+    assert judgement.status == NO_FACE and not judgement.face_seen
+    no_elbow = judge_frame(points, _without(confidence, "r_elbow"), CUPS, IntentParams())
+    assert no_elbow.status == NO_POINTING
+
+
+def _frames(tracker, times, confidence_of=lambda t: None, target=1, look=None):
+    label, center = CUPS[target]
+    points, confidence = keypoints(look_at=center if look is None else look,
+                                   point_with="right", point_at=center)  # fmt: skip
+    states = []
+    for t in times:
+        given = confidence_of(t)
+        states.append(tracker.update(t, points, confidence if given is None else given, CUPS))
+    return states
+
+
+def test_the_dwell_recognises_after_t_max_and_latches():
+    tracker = IntentTracker(IntentParams(t_max=0.5))
+    states = _frames(tracker, np.arange(0.0, 1.0, 1 / 30))
+    recognised = [s for s in states if s.target is not None]
+    assert recognised[0].recognised_time == pytest.approx(0.5, abs=1 / 30)
+    assert all(s.target == "green" and s.status == RECOGNISED for s in recognised)
+    assert states[5].target is None and states[5].candidate == "green"
+    later = _frames(tracker, [1.2], target=0)[0]  # pointing elsewhere later changes nothing
+    assert later.target == "green" and later.recognised_time == recognised[0].recognised_time
+
+
+def test_face_less_frames_neither_start_nor_finish_but_do_not_break_a_dwell():
+    _, confidence = keypoints()
+    faceless = _without(confidence, "r_eye")
+    tracker = IntentTracker(IntentParams(t_max=0.3))
+    # The face is missing for the first 0.2 s: no dwell starts.
+    states = _frames(tracker, np.arange(0.0, 0.2, 0.05), lambda t: faceless)
+    assert all(s.candidate is None for s in states)
+    # Then seen, with a face-less frame in the middle and at the end of the dwell.
+    times = np.arange(0.2, 0.9, 0.05)
+    states = _frames(tracker, times, lambda t: faceless if abs(t - 0.35) < 1e-9 else None)
+    first = next(s for s in states if s.target is not None)
+    assert first.recognised_time == pytest.approx(0.5)
+
+
+def test_changing_the_request_restarts_the_dwell():
+    tracker = IntentTracker(IntentParams(t_max=0.3))
+    _frames(tracker, [0.0, 0.1, 0.2], target=0)
+    states = _frames(tracker, [0.25, 0.35, 0.45, 0.55], target=2)
+    assert [s.target for s in states] == [None, None, None, "blue"]
+    assert states[-1].candidate_since == pytest.approx(0.25)
+
+
+def test_looking_elsewhere_breaks_the_dwell():
+    tracker = IntentTracker(IntentParams(t_max=0.3))
+    _frames(tracker, [0.0, 0.1, 0.2], target=0)
+    broken = _frames(tracker, [0.25], target=0, look=CUPS[2][1])[0]
+    assert broken.candidate is None and broken.frame.status == GAZE_ELSEWHERE
+    states = _frames(tracker, [0.3, 0.4, 0.5, 0.6], target=0)
+    assert [s.target for s in states] == [None, None, None, "red"]
+
+
+@pytest.mark.parametrize(
+    "field, value",
+    [("straight_arm_deg", 90.0), ("d_min", 0.0), ("t_max", -1.0), ("pointing_ray", "nose")],
+)
+def test_params_are_checked(field, value):
+    with pytest.raises(ValueError, match=field):
+        IntentParams(**{field: value})
