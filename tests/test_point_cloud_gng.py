@@ -20,7 +20,8 @@ from hsr_handover.perception.cloud_map import (
 )
 from hsr_handover.systems.attention_focus import AttentionFocus
 from hsr_handover.systems.depth_downsampler import DepthDownsampler
-from hsr_handover.systems.point_cloud_gng import LEARNING_DELAY_S, STATS, PointCloudGng
+from hsr_handover.systems.frame_timing import PROCESSING_DELAY_S
+from hsr_handover.systems.point_cloud_gng import STATS, PointCloudGng
 from hsr_handover.topology.growing_neural_gas import GrowingNeuralGas
 
 WORKSPACE = Workspace((0.0, -1.0, 0.0), (2.0, 1.0, 2.0))
@@ -77,7 +78,7 @@ def test_point_cloud_gng_learns_at_its_rate_and_outputs_the_graph():
     Simulator(system, context).AdvanceTo(1.01)  # ticks at 0.0, 0.1, ..., 1.0
     graph: GraphSnapshot = system.GetOutputPort("graph").Eval(context)
     stats = dict(zip(STATS, system.GetOutputPort("stats").Eval(context), strict=True))
-    assert graph.time == pytest.approx(1.0 + LEARNING_DELAY_S)
+    assert graph.time == pytest.approx(1.0 + PROCESSING_DELAY_S)
     assert stats["node_count"] == len(graph.nodes) > 50
     assert stats["point_count"] == 5000 and 0 < stats["quantisation_error"] < 0.1
     assert graph.edges.max() < len(graph.nodes) and len(graph.clusters) == len(graph.nodes)
@@ -131,7 +132,7 @@ def test_point_cloud_gng_learns_the_frame_captured_at_its_own_tick():
         report = gng.GetOutputPort("frame_report").Eval(context)
         graph = gng.GetOutputPort("graph").Eval(context)
         assert report.image_time == pytest.approx(0.1 * tick)
-        assert graph.time == pytest.approx(0.1 * tick + LEARNING_DELAY_S)
+        assert graph.time == pytest.approx(0.1 * tick + PROCESSING_DELAY_S)
         # Frame `tick` is the plane at height tick + 0.5; the previous one is 1 m lower. Nodes
         # that won this frame's signals stand on it, and none can stand higher.
         assert graph.nodes[:, 2].max() == pytest.approx(tick + 0.5, abs=0.05)

@@ -16,10 +16,10 @@ from hsr_handover.perception.cloud_map import (
     Workspace,
     learn_frame,
 )
+from hsr_handover.systems.frame_timing import PROCESSING_DELAY_S
 from hsr_handover.topology.growing_neural_gas import GrowingNeuralGas
 
 STATS = ("node_count", "mean_node_error", "quantisation_error", "point_count")
-LEARNING_DELAY_S = 1e-3
 
 
 class PointCloudGng(LeafSystem):
@@ -33,9 +33,8 @@ class PointCloudGng(LeafSystem):
     last frame did, or why it did nothing) and `stats` (vector: node count, mean node error,
     quantisation error of the frame in m, point count).
 
-    Drake computes every update due at one instant from the state just before it, so an update
-    at the capture instant itself would learn the previous frame. Learning `delay` s later (the
-    default, 1 ms, is far below a frame period) learns the frame captured at this tick.
+    Learning `delay` s after the capture learns the frame captured at this tick (see
+    `frame_timing`).
     """
 
     def __init__(
@@ -46,7 +45,7 @@ class PointCloudGng(LeafSystem):
         n_signals: int = SIGNALS_PER_FRAME,
         attention_weight: float = DEFAULT_ATTENTION_WEIGHT,
         seed: int = 0,
-        delay: float = LEARNING_DELAY_S,
+        delay: float = PROCESSING_DELAY_S,
     ):
         super().__init__()
         if not 0 < delay < period:

@@ -7,9 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from hsr_handover.human.aiming import arm_points, pointing_arm_angles, rot_z
-from hsr_handover.human.behavior import aim_head, head_rotation, reaching_arm_angles
-from hsr_handover.human.body import BodyDimensions
+from hsr_handover.human.behavior import reaching_arm_angles
 from hsr_handover.intent import IntentParams, IntentTracker, Ray, elbow_angle_deg, face_normal
 from hsr_handover.intent.rays import ray_distances, tilt_down
 from hsr_handover.intent.tracker import (
@@ -22,44 +20,8 @@ from hsr_handover.intent.tracker import (
     RECOGNISED,
     judge_frame,
 )
-from hsr_handover.perception.coco18 import COCO18_KEYPOINTS, keypoint_index
-
-BODY = BodyDimensions.from_height(1.70, seated=True)
-PERSON_AT, PERSON_YAW = np.array([1.75, 0.0, 0.0]), math.pi  # facing the robot (-x)
-# Three cups 22 cm apart on a 0.72 m table, as in the point_* scenarios.
-CUPS = [("red", np.array([0.80, -0.22, 0.77])), ("green", np.array([0.80, 0.0, 0.77])),
-        ("blue", np.array([0.80, 0.22, 0.77]))]  # fmt: skip
-
-
-def _to_world(points: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
-    return {name: PERSON_AT + rot_z(PERSON_YAW) @ p for name, p in points.items()}
-
-
-def _to_person(point: np.ndarray) -> np.ndarray:
-    return rot_z(PERSON_YAW).T @ (point - PERSON_AT)
-
-
-def keypoints(look_at=None, point_with=None, point_at=None, arm_angles=None):
-    """World COCO-18 keypoints of the seated person: the head aimed at `look_at` (or level),
-    the `point_with` arm straight at `point_at` (or given `arm_angles`), the other resting."""
-    pivot = BODY.neck_pivot()
-    yaw_pitch = aim_head(BODY, _to_person(look_at)) if look_at is not None else (0.0, 0.2)
-    face = {k: pivot + head_rotation(*yaw_pitch) @ v for k, v in BODY.face_points().items()}
-    points = {**face, "neck": pivot}
-    for side in ("right", "left"):
-        if side == point_with:
-            to_target = _to_person(point_at) - BODY.shoulder(side) if point_at is not None else 0
-            angles = arm_angles if arm_angles is not None else pointing_arm_angles(to_target)
-        else:
-            angles = np.array([-0.25, 0.08 * (1 if side == "left" else -1), 0.0, -1.5, 0.0])
-        arm = arm_points(BODY, side, angles)
-        prefix = side[0]
-        points |= {f"{prefix}_shoulder": BODY.shoulder(side), f"{prefix}_elbow": arm["elbow"],
-                   f"{prefix}_wrist": arm["wrist"]}  # fmt: skip
-        legs = BODY.leg_points(side)
-        points |= {f"{prefix}_{joint}": legs[joint] for joint in ("hip", "knee", "ankle")}
-    world = _to_world(points)
-    return np.array([world[name] for name in COCO18_KEYPOINTS]), np.full(18, 0.9)
+from hsr_handover.perception.coco18 import keypoint_index
+from tests.intent.synthetic_person import BODY, CUPS, keypoints, to_person
 
 
 def _without(confidence: np.ndarray, *names: str) -> np.ndarray:
@@ -125,7 +87,7 @@ def test_frames_that_do_not_ask_say_why():
     points, confidence = keypoints(look_at=center, point_with="right", point_at=center)
     assert judge_frame(points, np.zeros(18), CUPS, params).status == NO_SKELETON
     assert judge_frame(points, confidence, [], params).status == NO_CANDIDATES
-    bent = reaching_arm_angles(_to_person(center) - BODY.shoulder("right"), BODY)
+    bent = reaching_arm_angles(to_person(center) - BODY.shoulder("right"), BODY)
     bent[3] = -1.2  # an elbow bent by 70 degrees: gesturing, not pointing
     points, confidence = keypoints(look_at=center, point_with="right", arm_angles=bent)
     assert judge_frame(points, confidence, CUPS, params).status == NO_POINTING

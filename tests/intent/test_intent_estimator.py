@@ -1,0 +1,70 @@
+"""IntentEstimator on its own ports and context: the dwell in simulated time, the map's
+cross-check deciding which detections are candidates, and the rays it reports."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from pydrake.systems.analysis import Simulator
+
+from hsr_handover.intent import IntentParams
+from hsr_handover.perception.cross_check import DetectionSupport
+from hsr_handover.perception.object_detection import Detection, DetectionResult
+from hsr_handover.perception.skeleton import Skeleton
+from hsr_handover.systems.intent_estimator import IntentEstimator
+from tests.intent.synthetic_person import CUPS, keypoints
+
+
+def _inputs(target: int = 2):
+    points, confidence = keypoints(look_at=CUPS[target][1], point_with="left",
+                                   point_at=CUPS[target][1])  # fmt: skip
+    skeleton = Skeleton(np.zeros((18, 2)), points, confidence)
+    detections = tuple(
+        Detection(label, label, (0, 0, 1, 1), (0.5, 0.5), center, 10) for label, center in CUPS
+    )
+    return skeleton, DetectionResult(detections, "ok")
+
+
+def _run(system, until: float, support=None, image_time=None):
+    context = system.CreateDefaultContext()
+    skeleton, detections = _inputs()
+    system.GetInputPort("skeleton").FixValue(context, skeleton)
+    system.GetInputPort("detections").FixValue(context, detections)
+    if support is not None:
+        system.GetInputPort("detection_support").FixValue(context, support)
+    if image_time is not None:
+        system.GetInputPort("image_time").FixValue(context, image_time)
+    Simulator(system, context).AdvanceTo(until)
+    return system.GetOutputPort("intent").Eval(context), system.GetOutputPort("rays").Eval(context)
+
+
+def test_recognises_after_the_dwell_from_its_own_frames():
+    system = IntentEstimator(period=0.1, params=IntentParams(t_max=0.3))
+    early, _ = _run(system, 0.25)
+    assert early.target is None and early.candidate == "blue"
+    intent, (pointing, gaze) = _run(system, 0.6)
+    assert intent.target == "blue" and 0 < intent.confidence <= 1
+    # Frames are judged 2 ms after each capture (0.0, 0.1, ...); the dwell counts from 0.002 s.
+    assert intent.recognised_time == pytest.approx(0.302)
+    assert pointing is not None and gaze is not None
+    assert pointing.direction[0] < 0 and gaze.direction[0] < 0  # toward the table, from x=1.75
+
+
+def test_the_capture_time_times_the_dwell_when_connected():
+    system = IntentEstimator(period=0.1, params=IntentParams(t_max=0.0))
+    intent, _ = _run(system, 0.05, image_time=7.0)
+    assert intent.recognised_time == 7.0
+
+
+def test_only_detections_the_map_confirms_are_candidates():
+    system = IntentEstimator(period=0.1, params=IntentParams(t_max=0.3))
+    support = tuple(DetectionSupport(label, 0 if label == "blue" else 5, 0, label != "blue")
+                    for label, _ in CUPS)  # fmt: skip
+    intent, _ = _run(system, 0.6, support=support)
+    assert intent.target is None  # the pointed-at cup is colour without geometry
+    assert intent.frame.status != "pointing"
+
+
+def test_delay_must_fall_inside_the_period():
+    with pytest.raises(ValueError, match="delay"):
+        IntentEstimator(period=0.1, delay=0.2)
