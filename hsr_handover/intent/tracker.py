@@ -53,6 +53,7 @@ class IntentParams:
     straight ahead (the nose tip is below and a little ahead of the eyes); the gaze ray is its
     normal turned down by this angle.
     gaze_weight: with both rays, the object chosen minimises d_pointing + gaze_weight d_gaze.
+    smoothing_s: the rays are averaged over the frames of the last `smoothing_s` seconds.
     """
 
     straight_arm_deg: float = 150.0
@@ -62,19 +63,26 @@ class IntentParams:
     pointing_ray: str = "shoulder_wrist"
     face_tilt_deg: float = 23.0
     gaze_weight: float = 0.5
+    smoothing_s: float = 0.4
 
     def __post_init__(self) -> None:
         if not 90.0 < self.straight_arm_deg <= 180.0:
             raise ValueError(f"straight_arm_deg: expected (90, 180], got {self.straight_arm_deg}")
         for name in ("d_min", "gaze_d_min"):
             if not 0.0 < getattr(self, name) < 2.0:
-                raise ValueError(f"{name}: expected a distance in (0, 2) m")
+                raise ValueError(
+                    f"{name}: expected a distance in (0, 2) m, got {getattr(self, name)}"
+                )
         if not 0.0 <= self.t_max <= 10.0:
             raise ValueError(f"t_max: expected a dwell in [0, 10] s, got {self.t_max}")
         if self.pointing_ray not in POINTING_RAYS:
             raise ValueError(f"pointing_ray: expected one of {POINTING_RAYS}")
-        if not (0.0 <= self.face_tilt_deg < 90.0 and 0.0 <= self.gaze_weight <= 10.0):
-            raise ValueError("face_tilt_deg, gaze_weight: expected [0, 90) deg and [0, 10]")
+        if not 0.0 <= self.face_tilt_deg < 90.0:
+            raise ValueError(f"face_tilt_deg: expected [0, 90) deg, got {self.face_tilt_deg}")
+        if not 0.0 <= self.smoothing_s <= 10.0:
+            raise ValueError(f"smoothing_s: expected [0, 10] s, got {self.smoothing_s}")
+        if not 0.0 <= self.gaze_weight <= 10.0:
+            raise ValueError(f"gaze_weight: expected [0, 10], got {self.gaze_weight}")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -139,28 +147,46 @@ def _clarity(scores: np.ndarray, best: int) -> float:
     return float(np.clip(1.0 - scores[best] / max(runner_up, 1e-9), 0.0, 1.0))
 
 
-def judge_frame(
-    points: np.ndarray,
-    confidence: np.ndarray,
+@dataclasses.dataclass(frozen=True)
+class Observation:
+    """What a frame shows of the person: the pointing arm (None if no arm is straight), its
+    elbow angle, its ray, and the gaze ray (None without the face)."""
+
+    arm: str | None = None
+    elbow_angle_deg: float = math.nan
+    pointing: Ray | None = None
+    gaze: Ray | None = None
+
+
+def observe(
+    points: np.ndarray, confidence: np.ndarray, centers: np.ndarray, params: IntentParams
+) -> Observation:
+    """The rays of one lifted COCO-18 skeleton (18 x 3 points, 18 confidences). Of two
+    straight arms, the one whose ray passes nearer an object (`centers`, N x 3) points."""
+    gaze = gaze_ray(points, confidence, params)
+    arms = pointing_rays(points, confidence, params)
+    if not arms or len(centers) == 0:
+        return Observation(gaze=gaze)
+    arm, angle, ray = min(arms, key=lambda item: ray_distances(item[2], centers).min())
+    return Observation(arm, angle, ray, gaze)
+
+
+def judge(
+    observation: Observation,
     candidates: Sequence[tuple[str, np.ndarray]],
     params: IntentParams,
 ) -> FrameJudgement:
-    """One frame of a lifted COCO-18 skeleton (18 x 3 points, 18 confidences) against the
-    detected objects as (label, centre) pairs."""
-    if not np.any(np.asarray(confidence) > 0):
-        return FrameJudgement(None, 0.0, NO_SKELETON)
-    if not candidates:
-        return FrameJudgement(None, 0.0, NO_CANDIDATES)
+    """The object the observed rays ask for among the (label, centre) candidates."""
     labels = [label for label, _ in candidates]
-    centers = np.array([center for _, center in candidates], dtype=float)
-    gaze = gaze_ray(points, confidence, params)
-    arms = pointing_rays(points, confidence, params)
-    if not arms:
-        return FrameJudgement(None, 0.0, NO_POINTING, gaze=gaze, face_seen=gaze is not None)
-    # Of two straight arms, the one that passes nearer an object is the one pointing.
-    arm, angle, ray = min(arms, key=lambda item: ray_distances(item[2], centers).min())
+    centers = np.array([center for _, center in candidates], dtype=float).reshape(-1, 3)
+    gaze, ray = observation.gaze, observation.pointing
+    seen = dict(
+        arm=observation.arm, elbow_angle_deg=observation.elbow_angle_deg, pointing=ray,
+        gaze=gaze, face_seen=gaze is not None,
+    )  # fmt: skip
+    if ray is None:
+        return FrameJudgement(None, 0.0, NO_POINTING, **seen)
     distances = ray_distances(ray, centers)
-    seen = dict(arm=arm, elbow_angle_deg=angle, pointing=ray, gaze=gaze, face_seen=gaze is not None)
     if gaze is None:
         best = int(np.argmin(distances))
         pointed = labels[best] if distances[best] <= params.d_min else None
@@ -174,6 +200,58 @@ def judge_frame(
     if gaze_distances[best] > params.gaze_d_min:
         return FrameJudgement(None, 0.0, GAZE_ELSEWHERE, **seen)
     return FrameJudgement(labels[best], _clarity(scores, best), POINTING, **seen)
+
+
+def judge_frame(
+    points: np.ndarray,
+    confidence: np.ndarray,
+    candidates: Sequence[tuple[str, np.ndarray]],
+    params: IntentParams,
+) -> FrameJudgement:
+    """One frame on its own, unsmoothed: `observe`, then `judge`."""
+    empty = _nothing_to_judge(confidence, candidates)
+    if empty is not None:
+        return empty
+    centers = np.array([center for _, center in candidates], dtype=float)
+    return judge(observe(points, confidence, centers, params), candidates, params)
+
+
+def _nothing_to_judge(confidence: np.ndarray, candidates: Sequence) -> FrameJudgement | None:
+    if not np.any(np.asarray(confidence) > 0):
+        return FrameJudgement(None, 0.0, NO_SKELETON)
+    if not candidates:
+        return FrameJudgement(None, 0.0, NO_CANDIDATES)
+    return None
+
+
+class RaySmoother:
+    """The mean of the rays seen over the last `window` seconds: the face's ray from three
+    points a few cm apart swings by 10-30 degrees from frame to frame, while the head holds
+    still for the length of a request. A pointing ray's history restarts when the arm changes
+    or stops pointing; a frame without a face adds nothing to the gaze's."""
+
+    def __init__(self, window: float):
+        self.window = window
+        self._pointing: list[tuple[float, Ray]] = []
+        self._gaze: list[tuple[float, Ray]] = []
+        self._arm: str | None = None
+
+    def smooth(self, time: float, observation: Observation) -> Observation:
+        if observation.pointing is None or observation.arm != self._arm:
+            self._pointing = []
+        self._arm = observation.arm
+        pointing = self._add(self._pointing, time, observation.pointing)
+        gaze = self._add(self._gaze, time, observation.gaze)
+        return dataclasses.replace(observation, pointing=pointing, gaze=gaze)
+
+    def _add(self, history: list, time: float, ray: Ray | None) -> Ray | None:
+        if ray is None:
+            return None
+        history.append((time, ray))
+        history[:] = [(t, r) for t, r in history if t > time - self.window - 1e-9]
+        origin = np.mean([r.origin for _, r in history], axis=0)
+        direction = np.sum([r.direction for _, r in history], axis=0)
+        return Ray(origin, direction / np.linalg.norm(direction))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -201,6 +279,7 @@ class IntentTracker:
     def __init__(self, params: IntentParams | None = None):
         self.params = IntentParams() if params is None else params
         self.state_ = IntentState()
+        self._smoother = RaySmoother(self.params.smoothing_s)
 
     def update(
         self,
@@ -209,8 +288,13 @@ class IntentTracker:
         confidence: np.ndarray,
         candidates: Sequence[tuple[str, np.ndarray]],
     ) -> IntentState:
-        """Judge the frame captured at `time` (s) and advance the dwell."""
-        frame = judge_frame(points, confidence, candidates, self.params)
+        """Judge the frame captured at `time` (s), its rays smoothed over the recent frames,
+        and advance the dwell."""
+        frame = _nothing_to_judge(confidence, candidates)
+        if frame is None:
+            centers = np.array([center for _, center in candidates], dtype=float)
+            seen = observe(points, confidence, centers, self.params)
+            frame = judge(self._smoother.smooth(time, seen), candidates, self.params)
         state = self.state_
         if state.target is not None:
             self.state_ = dataclasses.replace(state, frame=frame)

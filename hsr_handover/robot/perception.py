@@ -1,11 +1,9 @@
-"""The robot's perception (DESIGN §2), fed only by the station's sensor ports:
+"""The robot's perception (DESIGN §2), fed only by the station's sensor ports.
 
-camera_depth_image -> DepthDownsampler -> DepthImageToPointCloud -> PointCloudGng
-camera_color_image + depth ----------> ObjectDetector ---------+--> DetectionCrossCheck
-                                                               |    (against the GNG)
-skeleton_keypoints + depth ----------> SkeletonLifter ---------+-> AttentionFocus -+
-                                                                                  v
-                                                        PointCloudGng `attention` input
+- camera_depth_image -> DepthDownsampler -> DepthImageToPointCloud -> PointCloudGng (the map)
+- camera_color_image + depth -> ObjectDetector -> DetectionCrossCheck (against the map)
+- skeleton_keypoints + depth -> SkeletonLifter -> AttentionFocus -> the map's `attention`
+- skeleton, detections and their cross-check -> IntentEstimator (eqs. 16-17)
 """
 
 from __future__ import annotations
@@ -24,13 +22,15 @@ from hsr_handover.systems.attention_focus import AttentionFocus
 from hsr_handover.systems.depth_downsampler import DepthDownsampler
 from hsr_handover.systems.detection_cross_check import DetectionCrossCheck
 from hsr_handover.systems.head_camera import to_camera_info
+from hsr_handover.systems.intent_estimator import IntentEstimator
 from hsr_handover.systems.object_detector import ObjectDetector
 from hsr_handover.systems.point_cloud_gng import PointCloudGng
 from hsr_handover.systems.skeleton_lifter import SkeletonLifter
 from hsr_handover.topology.growing_neural_gas import GrowingNeuralGas
 
 PERCEPTION_OUTPUTS = ("gng_graph", "gng_stats", "gng_frame_report", "point_cloud",
-                      "detections", "detection_support", "skeleton", "attention")  # fmt: skip
+                      "detections", "detection_support", "skeleton", "attention", "intent",
+                      "intent_rays")  # fmt: skip
 
 
 def focus_schedule(scenario: Scenario) -> list[FocusChange]:
@@ -97,6 +97,18 @@ def _add_detectors(
     return detector, lifter
 
 
+def _add_intent(builder: DiagramBuilder, inputs: _SensorInputs, scenario: Scenario) -> LeafSystem:
+    try:
+        params = scenario.intent.params()
+    except ValueError as error:
+        raise ScenarioError(scenario.source, "intent", str(error)) from None
+    intent = builder.AddNamedSystem(
+        "intent_estimator", IntentEstimator(1.0 / scenario.camera.rate_hz, params)
+    )
+    inputs.feed(interface.CAMERA_IMAGE_TIME, intent.GetInputPort("image_time"))
+    return intent
+
+
 def add_perception(builder: DiagramBuilder, scenario: Scenario) -> None:
     """Add the perception systems to the robot's builder; export the sensor inputs they read
     (named as the station's outputs) and PERCEPTION_OUTPUTS."""
@@ -123,6 +135,13 @@ def add_perception(builder: DiagramBuilder, scenario: Scenario) -> None:
     cross_check = builder.AddNamedSystem("detection_cross_check", DetectionCrossCheck())
     builder.Connect(detector.GetOutputPort("detections"), cross_check.GetInputPort("detections"))
     builder.Connect(gng.GetOutputPort("graph"), cross_check.GetInputPort("graph"))
+    intent = _add_intent(builder, inputs, scenario)
+    for name, port in (
+        ("skeleton", lifter.GetOutputPort("skeleton")),
+        ("detections", detector.GetOutputPort("detections")),
+        ("detection_support", cross_check.GetOutputPort("detection_support")),
+    ):
+        builder.Connect(port, intent.GetInputPort(name))  # fmt: skip
 
     exports = {
         "gng_graph": gng.GetOutputPort("graph"),
@@ -133,6 +152,8 @@ def add_perception(builder: DiagramBuilder, scenario: Scenario) -> None:
         "detection_support": cross_check.GetOutputPort("detection_support"),
         "skeleton": lifter.GetOutputPort("skeleton"),
         "attention": focus.GetOutputPort("attention"),
+        "intent": intent.GetOutputPort("intent"),
+        "intent_rays": intent.GetOutputPort("rays"),
     }
     for name, port in exports.items():
         builder.ExportOutput(port, name)

@@ -113,6 +113,7 @@ def check_scenario(scenario: Scenario) -> None:
     _check_objects(scenario, robot_models, fail)
     _check_person(scenario, fail)
     _check_perception(scenario, fail)
+    _check_intent(scenario, fail)
 
 
 def _failer(source: str) -> Fail:
@@ -373,6 +374,16 @@ def _check_person(scenario: Scenario, fail: Fail) -> None:
             _choice(fail, f"{key}.target", action.target, names, "the objects ")
         layout = "[x, y, z] for reach_to" if action.action == "reach_to" else ""
         _numbers(fail, f"{key}.point", action.point, ROOM, layout)
+
+
+def _check_intent(scenario: Scenario, fail: Fail) -> None:
+    """Each field in its range (NaN included); IntentParams names the field its message is
+    about."""
+    try:
+        scenario.intent.params()
+    except ValueError as error:
+        field_name, _, expected = str(error).partition(": ")
+        fail(f"intent.{field_name}", expected)
 
 
 def _check_perception(scenario: Scenario, fail: Fail) -> None:

@@ -13,6 +13,7 @@ times in [0, 3600] s. Intervals are written as in maths: (0, 1] excludes 0 and i
 import dataclasses
 from dataclasses import field
 
+from hsr_handover.intent import IntentParams
 from hsr_handover.perception.attention import DEFAULT_ATTENTION_WEIGHT
 from hsr_handover.perception.cloud_map import SCENE_GNG_PARAMS, SIGNALS_PER_FRAME
 from hsr_handover.perception.pinhole import PinholeCamera
@@ -209,6 +210,31 @@ class PerceptionConfig:
 
 
 @dataclasses.dataclass
+class IntentConfig:
+    """The robot's pointing-intent recogniser (paper 3.2, eqs. 16-17), which runs whenever
+    perception does: an arm straighter than `straight_arm_deg` (eq. 16's elbow angle) whose
+    `pointing_ray` ("shoulder_wrist", "elbow_wrist" or "eye_wrist") passes within `d_min` of an
+    object, a gaze ray (eq. 17's face normal turned down by `face_tilt_deg`) within
+    `gaze_d_min` of the same object, both for `t_max`; with both rays the object minimising
+    d_pointing + `gaze_weight` d_gaze is chosen. Defaults: `hsr_handover.intent.IntentParams`.
+
+    Ranges: straight_arm_deg in (90, 180] deg; d_min, gaze_d_min in (0, 2) m; t_max in [0, 10] s;
+    face_tilt_deg in [0, 90) deg; gaze_weight in [0, 10]."""
+
+    straight_arm_deg: float = IntentParams.straight_arm_deg
+    d_min: float = IntentParams.d_min
+    gaze_d_min: float = IntentParams.gaze_d_min
+    t_max: float = IntentParams.t_max
+    pointing_ray: str = IntentParams.pointing_ray
+    face_tilt_deg: float = IntentParams.face_tilt_deg
+    gaze_weight: float = IntentParams.gaze_weight
+
+    def params(self) -> IntentParams:
+        """The recogniser's parameters (raises ValueError naming a field out of range)."""
+        return IntentParams(**dataclasses.asdict(self))
+
+
+@dataclasses.dataclass
 class SimulationConfig:
     """Simulated duration (s), the plant's discrete time step (s), the random seed, and the frame
     rate of the replay recording.
@@ -233,6 +259,7 @@ class Scenario:
     person: PersonConfig = field(default_factory=PersonConfig)
     camera: CameraConfig = field(default_factory=CameraConfig)
     perception: PerceptionConfig = field(default_factory=PerceptionConfig)
+    intent: IntentConfig = field(default_factory=IntentConfig)
     simulation: SimulationConfig = field(default_factory=SimulationConfig)
     # Where the scenario came from, for error messages and relative model paths; set by the
     # loader, never read from YAML (the schema walk treats it as an unknown key).
