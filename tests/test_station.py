@@ -11,7 +11,7 @@ from pydrake.systems.analysis import Simulator
 from hsr_handover import interface
 from hsr_handover.hsr import COMMANDED_JOINTS, PALM_FRAME
 from hsr_handover.robot import ready_command
-from hsr_handover.scenario import load_scenario, object_center
+from hsr_handover.scenario import ImprecisionConfig, load_scenario, object_center
 from hsr_handover.simulation import build_simulation
 from hsr_handover.station import build_station, check_initial_clearance
 from hsr_handover.station.hsr_interface import command_matrix, measurement_matrices
@@ -149,8 +149,10 @@ def test_depth_image_shows_the_table_top_at_its_height(camera_view):
 
 @pytest.fixture(scope="module")
 def pointing_run():
-    """point_left.yaml to mid-gesture; the camera is slowed because nothing here reads it."""
+    """point_left.yaml to mid-gesture with an exact person (no pointing error, the head turning
+    all the way); the camera is slowed because nothing here reads it."""
     scenario = load_scenario(SCENARIOS / "point_left.yaml")
+    scenario.person.imprecision = ImprecisionConfig(0.0, 1.0, 0.0)
     scenario.camera.rate_hz = 1.0
     simulation = build_simulation(scenario)
     station = simulation.station

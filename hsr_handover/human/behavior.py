@@ -21,7 +21,8 @@ from hsr_handover.human.aiming import (
 )
 from hsr_handover.human.body import ARM_JOINT_SUFFIXES, PERSON_JOINTS, BodyDimensions
 
-ACTIONS = ("rest", "look_at", "point_at", "reach_to")
+ACTIONS = ("rest", "look_at", "point_at", "reach_to", "gesture")
+GESTURE_BEAT_S = 0.6  # s between the arm's turns while gesturing (one minimum move)
 PEAK_JOINT_SPEED = 1.5  # rad/s: brisk but human
 MIN_MOVE_TIME = 0.6  # s
 _MIN_JERK_PEAK = 1.875  # peak of d/dtau of the minimum-jerk profile
@@ -44,7 +45,8 @@ class Action:
     """A scripted action with its target already in the person frame.
 
     kind: one of ACTIONS. end: None lasts until the next action. point: the object or point
-    aimed at (person frame), None for rest. arm: "right" or "left".
+    aimed at (person frame), None for rest and gesture. arm: "right" or "left".
+    head_fraction: the share of the turn toward `point` the head makes (the eyes do the rest).
     """
 
     kind: str
@@ -52,6 +54,7 @@ class Action:
     end: float | None = None
     point: np.ndarray | None = None
     arm: str = "right"
+    head_fraction: float = 1.0
 
 
 def rest_posture(body: BodyDimensions) -> np.ndarray:
@@ -93,8 +96,10 @@ def head_rotation(yaw: float, pitch: float) -> np.ndarray:
 def target_posture(body: BodyDimensions, action: Action) -> np.ndarray:
     """The whole-body joint target for one action (PERSON_JOINTS order), within joint limits."""
     q = rest_posture(body)
-    if action.kind != "rest":
-        q[[_INDEX["neck_yaw"], _INDEX["neck_pitch"]]] = aim_head(body, action.point)
+    neck = [_INDEX["neck_yaw"], _INDEX["neck_pitch"]]
+    if action.point is not None:
+        rest = q[neck].copy()
+        q[neck] = rest + action.head_fraction * (aim_head(body, action.point) - rest)
     if action.kind in ("point_at", "reach_to"):
         prefix = "r_" if action.arm == "right" else "l_"
         to_target = action.point - body.shoulder(action.arm)
@@ -115,11 +120,31 @@ def posture_changes(
     ordered = sorted(actions, key=lambda a: a.start)
     changes = [(0.0, rest_posture(body))]
     for index, action in enumerate(ordered):
-        changes.append((action.start, target_posture(body, action)))
         next_start = ordered[index + 1].start if index + 1 < len(ordered) else np.inf
+        end = next_start if action.end is None else min(action.end, next_start)
+        if action.kind == "gesture":
+            changes += _gesture_beats(body, action, end)
+        else:
+            changes.append((action.start, target_posture(body, action)))
         if action.end is not None and action.end < next_start:
             changes.append((action.end, rest_posture(body)))
     return changes
+
+
+def _gesture_beats(body: BodyDimensions, action: Action, end: float):
+    """Talking with the hands: the forearm swings up and out and back every GESTURE_BEAT_S,
+    the elbow bent (never a straight, pointing arm), until `end` (at most a minute of beats)."""
+    prefix = "r_" if action.arm == "right" else "l_"
+    sign = 1.0 if action.arm == "left" else -1.0
+    joints = [_INDEX[prefix + s] for s in ARM_JOINT_SUFFIXES]
+    beats = []
+    for beat in range(int(min(end - action.start, 60.0) / GESTURE_BEAT_S) + 1):
+        q = rest_posture(body)
+        lifted = beat % 2 == 0
+        q[joints] = [-0.9 if lifted else -0.5, sign * (0.35 if lifted else 0.15), 0.0,
+                     -1.1 if lifted else -1.6, 0.3 if lifted else -0.2]  # fmt: skip
+        beats.append((action.start + beat * GESTURE_BEAT_S, q))
+    return beats
 
 
 @dataclasses.dataclass(frozen=True)

@@ -12,6 +12,8 @@ from hsr_handover.scenario.schema import (
     CameraConfig,
     FocusConfig,
     GngConfig,
+    ImprecisionConfig,
+    IntentConfig,
     ObjectConfig,
     PerceptionConfig,
     PersonConfig,
@@ -20,10 +22,12 @@ from hsr_handover.scenario.schema import (
     ScenarioError,
     SimulationConfig,
     TableConfig,
+    VariationConfig,
 )
 
 __all__ = [
-    "ActionConfig", "CameraConfig", "FocusConfig", "GngConfig", "ObjectConfig",
+    "ActionConfig", "CameraConfig", "FocusConfig", "GngConfig", "ImprecisionConfig",
+    "IntentConfig", "ObjectConfig", "VariationConfig",
     "PerceptionConfig", "PersonConfig", "RobotConfig", "Scenario", "ScenarioError",
     "SimulationConfig", "TableConfig", "load_scenario", "object_center", "resolve_model_path",
     "robot_start_positions",

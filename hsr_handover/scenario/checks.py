@@ -112,6 +112,8 @@ def check_scenario(scenario: Scenario) -> None:
     _check_table(scenario, fail)
     _check_objects(scenario, robot_models, fail)
     _check_person(scenario, fail)
+    _check_imprecision(scenario, fail)
+    _check_variation(scenario, fail)
     _check_perception(scenario, fail)
     _check_intent(scenario, fail)
 
@@ -384,6 +386,31 @@ def _check_intent(scenario: Scenario, fail: Fail) -> None:
     except ValueError as error:
         field_name, _, expected = str(error).partition(": ")
         fail(f"intent.{field_name}", expected)
+
+
+def _check_imprecision(scenario: Scenario, fail: Fail) -> None:
+    imprecision, key = scenario.person.imprecision, "person.imprecision"
+    _number(
+        fail, f"{key}.pointing_error_deg", imprecision.pointing_error_deg, Interval(0, 45, "deg")
+    )
+    _number(fail, f"{key}.head_turn_fraction", imprecision.head_turn_fraction, Interval(0.3, 1))
+    _number(
+        fail, f"{key}.head_turn_fraction_sd", imprecision.head_turn_fraction_sd, Interval(0, 0.5)
+    )
+
+
+def _check_variation(scenario: Scenario, fail: Fail) -> None:
+    variation, key = scenario.person.variation, "person.variation"
+    _number(fail, f"{key}.height_sd", variation.height_sd, Interval(0, 0.2, "m"))
+    _number(fail, f"{key}.position_sd", variation.position_sd, Interval(0, 0.3, "m"))
+    _number(fail, f"{key}.yaw_sd_deg", variation.yaw_sd_deg, Interval(0, 30, "deg"))
+    for name in ("onset_s", "look_lead_s", "point_duration_s"):
+        span = getattr(variation, name)
+        _numbers(fail, f"{key}.{name}", span, Interval(0, 60, "s"), "[low, high]")
+        if span[0] > span[1]:
+            fail(f"{key}.{name}", f"expected low <= high, got {span}")
+    probability = variation.left_arm_probability
+    _number(fail, f"{key}.left_arm_probability", probability, Interval(0, 1))
 
 
 def _check_perception(scenario: Scenario, fail: Fail) -> None:

@@ -13,6 +13,7 @@ times in [0, 3600] s. Intervals are written as in maths: (0, 1] excludes 0 and i
 import dataclasses
 from dataclasses import field
 
+from hsr_handover.human.imprecision import Imprecision
 from hsr_handover.intent import IntentParams
 from hsr_handover.perception.attention import DEFAULT_ATTENTION_WEIGHT
 from hsr_handover.perception.cloud_map import SCENE_GNG_PARAMS, SIGNALS_PER_FRAME
@@ -102,7 +103,8 @@ class ObjectConfig:
 class ActionConfig:
     """One timed action of the person's script.
 
-    action: "look_at" (target), "point_at" (target), "reach_to" (point [x, y, z]) or "rest".
+    action: "look_at" (target), "point_at" (target), "reach_to" (point [x, y, z]), "gesture"
+    (talking with the `arm`'s hand, elbow bent) or "rest".
     start: when it begins (s). duration: how long it lasts (s); by default until the next action
     starts. The person rests between an action's end and the next one's start.
     arm: "right" or "left", the arm that points or reaches.
@@ -120,9 +122,50 @@ class ActionConfig:
 
 
 @dataclasses.dataclass
+class ImprecisionConfig:
+    """How imprecisely the simulated person points and looks, drawn from the run's seed
+    (`hsr_handover.human.imprecision`): each pointing gesture misses the shoulder-to-target ray
+    by `pointing_error_deg` on average (Breuer et al. 2010: 7.3 deg); the head makes
+    `head_turn_fraction` of a gaze shift on average (Stiefelhagen and Zhu 2002: 0.689), varying
+    between people by `head_turn_fraction_sd`. Zero error and a fraction of 1 give an exact person.
+
+    Ranges: pointing_error_deg in [0, 45] deg; head_turn_fraction in [0.3, 1];
+    head_turn_fraction_sd in [0, 0.5]."""
+
+    pointing_error_deg: float = Imprecision.pointing_error_deg
+    head_turn_fraction: float = Imprecision.head_turn_fraction
+    head_turn_fraction_sd: float = Imprecision.head_turn_fraction_sd
+
+    def model(self) -> Imprecision:
+        return Imprecision(**dataclasses.asdict(self))
+
+
+@dataclasses.dataclass
+class VariationConfig:
+    """How much the person varies from trial to trial in an experiment (a single run uses the
+    file's person as it is): height (m), position on the floor (m, each axis) and yaw (deg) as
+    standard deviations; when the request starts (`onset_s` [earliest, latest]); how long the
+    look leads the pointing (`look_lead_s`); how long the arm points (`point_duration_s`); and
+    the chance that the left arm points rather than the right (`left_arm_probability`).
+
+    Ranges: height_sd in [0, 0.2] m; position_sd in [0, 0.3] m; yaw_sd_deg in [0, 30] deg;
+    onset_s, look_lead_s, point_duration_s each [low, high] with 0 <= low <= high <= 60 s;
+    left_arm_probability in [0, 1]."""
+
+    height_sd: float = 0.07
+    position_sd: float = 0.05
+    yaw_sd_deg: float = 8.0
+    onset_s: list[float] = field(default_factory=lambda: [0.3, 1.0])
+    look_lead_s: list[float] = field(default_factory=lambda: [0.2, 0.8])
+    point_duration_s: list[float] = field(default_factory=lambda: [2.0, 3.0])
+    left_arm_probability: float = 0.3
+
+
+@dataclasses.dataclass
 class PersonConfig:
     """An adult at the table: feet position [x, y] and yaw (facing its +x), height, posture
-    ("seated" or "standing") and the behaviour script.
+    ("seated" or "standing"), the behaviour script, how imprecisely they point and look, and
+    how much they vary between an experiment's trials.
 
     Ranges: position each in [-20, 20] m; yaw in [-2pi, 2pi] rad; height in [1.2, 2.1] m."""
 
@@ -131,6 +174,8 @@ class PersonConfig:
     height: float = 1.70
     posture: str = "seated"
     behavior: list[ActionConfig] = field(default_factory=list)
+    imprecision: ImprecisionConfig = field(default_factory=ImprecisionConfig)
+    variation: VariationConfig = field(default_factory=VariationConfig)
 
 
 @dataclasses.dataclass

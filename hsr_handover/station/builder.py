@@ -95,7 +95,7 @@ def _person_timeline(
 ) -> PostureTimeline:
     """The person's script as a posture timeline; sets the person's default posture to its
     start, so call it before Finalize."""
-    timeline = PostureTimeline(posture_changes(body, person_actions(scenario)))
+    timeline = PostureTimeline(posture_changes(body, person_actions(scenario, body)))
     rest, _ = timeline.evaluate(0.0)
     set_default_positions(
         plant, person, dict(zip(PERSON_JOINTS, rest, strict=True)), "person", scenario.source

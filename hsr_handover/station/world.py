@@ -13,10 +13,18 @@ from pydrake.multibody.tree import ModelInstanceIndex
 from hsr_handover.hsr import GRIPPER_JOINT, GRIPPER_MIMIC_JOINT, TORSO_JOINT
 from hsr_handover.human.behavior import Action
 from hsr_handover.human.body import BodyDimensions
+from hsr_handover.human.imprecision import (
+    draw_head_fraction,
+    draw_pointing_error,
+    perturb_direction,
+)
 from hsr_handover.scenario import Scenario, ScenarioError, object_center
 from hsr_handover.scene.object_models import object_sdf
 from hsr_handover.scene.person_model import person_sdf
 from hsr_handover.scene.table_model import table_sdf
+
+PERSON_STREAM = 0x9E4
+"""Keys the person's random draws apart from the other users of the run's seed."""
 
 
 def person_pose(scenario: Scenario) -> RigidTransform:
@@ -35,21 +43,31 @@ def couple_default_positions(
     plant.GetJointByName(GRIPPER_MIMIC_JOINT, robot).set_default_positions([finger])
 
 
-def person_actions(scenario: Scenario) -> list[Action]:
-    """The scenario's behaviour script with object names resolved to points in the person frame.
+def person_actions(scenario: Scenario, body: BodyDimensions) -> list[Action]:
+    """The scenario's behaviour script with object names resolved to points in the person frame,
+    made as imprecise as `person.imprecision` says: each pointing gesture turned off the
+    shoulder-to-target ray by its own drawn error, every head turn short by this person's drawn
+    fraction. The draws come from the run's seed.
 
     The actor is part of the simulated world, so it may know where the objects really are.
     """
     to_person = person_pose(scenario).inverse()
     centers = {obj.name: object_center(scenario, obj) for obj in scenario.objects}
+    imprecision = scenario.person.imprecision.model()
+    rng = np.random.default_rng([scenario.simulation.seed, PERSON_STREAM])
+    head_fraction = draw_head_fraction(rng, imprecision)
     actions = []
     for item in scenario.person.behavior:
         world_point = centers.get(item.target) if item.target else None
         if item.action == "reach_to":
             world_point = np.asarray(item.point, dtype=float)
         point = None if world_point is None else to_person @ world_point
+        if item.action == "point_at":
+            shoulder = body.shoulder(item.arm)
+            error = draw_pointing_error(rng, imprecision.pointing_error_deg)
+            point = shoulder + perturb_direction(point - shoulder, error)
         end = None if item.duration is None else item.start + item.duration
-        actions.append(Action(item.action, item.start, end, point, item.arm))
+        actions.append(Action(item.action, item.start, end, point, item.arm, head_fraction))
     return actions
 
 
