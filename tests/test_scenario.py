@@ -224,11 +224,6 @@ BROKEN = {
         "robot.base_pose[0]",
         "got 150.0",
     ),
-    "list of 100,000 items": (
-        _set("table.center", [0.5] * 100_000),
-        "table.center",
-        "expected at most 1000 entries",
-    ),
     "list of 1,000 items echoed": (
         _set("table.center", [0.5] * 1000),
         "table.center",
@@ -239,6 +234,7 @@ BROKEN = {
         "objects[0].color",
         "(100000 characters)",
     ),
+    "source set in the file": (_set("source", "x.yaml"), "source", "unknown key"),
     "long unknown key": (
         _set("table." + "k" * 10_000, 1),
         "table." + "k" * (MAX_KEY_PATH - 7) + "…",
@@ -247,7 +243,11 @@ BROKEN = {
 }
 
 
-BOX_SDF = '<?xml version="1.0"?><sdf version="1.9"><model name="box"><link name="b"/></model></sdf>'
+@pytest.fixture
+def box_model(tmp_path):
+    """A model file beside the written scenario that parses but is no HSR."""
+    sdf = '<?xml version="1.0"?><sdf version="1.9"><model name="box"><link name="b"/></model></sdf>'
+    (tmp_path / "box.sdf").write_text(sdf)
 
 
 def assert_one_error_line(capsys, path, key_path: str, phrase: str) -> None:
@@ -261,12 +261,12 @@ def assert_one_error_line(capsys, path, key_path: str, phrase: str) -> None:
     assert len(lines[0]) < MAX_ERROR_LINE, lines[0]
 
 
+@pytest.mark.usefixtures("box_model")
 @pytest.mark.parametrize("case", list(BROKEN), ids=list(BROKEN))
 def test_broken_scenario_gets_one_line_naming_file_key_and_expectation(
-    case, write_scenario, tmp_path, capsys
+    case, write_scenario, capsys
 ):
     mutate, key_path, phrase = BROKEN[case]
-    (tmp_path / "box.sdf").write_text(BOX_SDF)
     path = write_scenario(mutate)
     assert main(["validate", str(path)]) == 2
     assert_one_error_line(capsys, path, key_path, phrase)
@@ -286,6 +286,11 @@ RAW_BROKEN = {
         POINT_LEFT.encode().replace(b"paper", b"pap\xff", 1),
         "(file)",
         "expected UTF-8 text; line 1 is not",
+    ),
+    "control character": (
+        _replace(DURATION_LINE, "  duration: 5\x00\n"),
+        "line 6",
+        "expected valid YAML (control characters are not allowed)",
     ),
     "empty file": (b"", "(file)", "expected a mapping of scenario sections"),
     "comment-only file": (b"# to do\n", "(file)", "expected a mapping of scenario sections"),
@@ -314,6 +319,11 @@ RAW_BROKEN = {
         "simulation",
         "expected each key once",
     ),
+    "list of 100,000 items": (
+        _replace("center: [0.85, 0.0]", f"center: [{'0.5, ' * 100_000}0.5]"),
+        "table.center",
+        "expected at most 1000 entries",
+    ),
     "tagged value that does not construct": (
         _replace(DURATION_LINE, DURATION_LINE + "  seed: !!int abc\n"),
         "simulation.seed",
@@ -339,6 +349,7 @@ def test_merge_keys_may_override_and_yaml_12_floats_are_numbers(tmp_path):
     assert (simulation.duration, simulation.time_step) == (4.0, 0.002)
 
 
+@pytest.mark.usefixtures("box_model")
 def test_each_broken_class_has_its_own_message(write_scenario, capsys):
     messages = set()
     for mutate, _, _ in BROKEN.values():

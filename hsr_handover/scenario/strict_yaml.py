@@ -89,7 +89,7 @@ class StrictLoader(Composer, _EventParser, SafeConstructor, Resolver):
             return super().construct_object(node, deep=deep)
         except SchemaMismatch:
             raise
-        except (ValueError, TypeError, AttributeError, ArithmeticError):
+        except (ValueError, TypeError, AttributeError, ArithmeticError, LookupError):
             # A tag PyYAML cannot construct, such as `!!int abc` or `!!timestamp 13`.
             raise SchemaMismatch(
                 where(self._node_path(node)), f"expected a valid {node.tag.split(':')[-1]}"
@@ -97,11 +97,16 @@ class StrictLoader(Composer, _EventParser, SafeConstructor, Resolver):
 
     def construct_mapping(self, node: MappingNode, deep: bool = False) -> dict:
         seen = set()
-        for key_node, _ in node.value:
-            if key_node.tag == _MERGE_TAG:  # `<<: *defaults` may be overridden, not a repeat
+        # `<<: *defaults` may be overridden, not a repeat; PyYAML itself reports non-mappings
+        # tagged !!map and keys that are lists or mappings.
+        pairs = node.value if isinstance(node, MappingNode) else []
+        for key_node, _ in pairs:
+            if key_node.tag == _MERGE_TAG:
                 continue
             key = self.construct_object(key_node, deep=deep)
-            if isinstance(key, Hashable) and key in seen:
+            if not isinstance(key, Hashable):
+                continue
+            if key in seen:
                 raise SchemaMismatch(
                     child(self._node_path(node), key), "expected each key once; this one repeats"
                 )
