@@ -68,15 +68,16 @@ def _replay_path(args: argparse.Namespace) -> Path:
 
 
 def _apply_overrides(scenario, args: argparse.Namespace) -> None:
+    """--duration and --seed over the file's, within the ranges the file's own are held to."""
+    from hsr_handover.scenario.checks import DURATION, SEED
+
     if args.duration is not None:
-        if not args.duration > 0:
-            raise UsageError(
-                f"--duration: expected a positive number of seconds, got {args.duration}"
-            )
+        if args.duration not in DURATION:
+            raise UsageError(f"--duration: expected a number in {DURATION}, got {args.duration}")
         scenario.simulation.duration = args.duration
     if args.seed is not None:
-        if args.seed < 0:
-            raise UsageError(f"--seed: expected a non-negative integer, got {args.seed}")
+        if args.seed not in SEED:
+            raise UsageError(f"--seed: expected an integer in {SEED}, got {args.seed}")
         scenario.simulation.seed = args.seed
 
 

@@ -102,3 +102,21 @@ def test_attention_summary_says_n_a_where_the_json_has_null(tmp_path) -> None:
     assert unattended["focus"] == "none" and unattended["attended_ratio"] is None
     (line,) = [line for line in result.stdout.splitlines() if line.startswith("  none")]
     assert "attended ratio   n/a (gain  n/a)" in line
+
+
+@pytest.mark.parametrize(
+    "option, value, expected",
+    [
+        ("--duration", "1e308", "--duration: expected a number in (0, 3600] (s), got 1e+308"),
+        ("--duration", "0", "--duration: expected a number in (0, 3600] (s), got 0.0"),
+        ("--seed", "4294967296", "--seed: expected an integer in [0, 4294967295], got 4294967296"),
+        ("--seed", "-1", "--seed: expected an integer in [0, 4294967295], got -1"),
+    ],
+)
+def test_overrides_are_held_to_the_files_ranges(tmp_path, capsys, option, value, expected):
+    from hsr_handover.cli import main
+
+    replay = tmp_path / "never.html"
+    code = main(["run", str(SCENARIOS / "point_left.yaml"), "--html", str(replay), option, value])
+    assert code == 2 and capsys.readouterr().err.strip() == f"error: {expected}"
+    assert not replay.exists()

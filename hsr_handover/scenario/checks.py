@@ -100,6 +100,7 @@ RATE = Interval(0.0, 120.0, "Hz", open_low=True)
 UNIT_RATE = Interval(0.0, 1.0, open_low=True)  # GNG learning rates
 FRACTION = Interval(0.0, 1.0, open_high=True)  # GNG error reductions
 COUNT = Interval(1, 1_000_000, integer=True)
+SEED = Interval(0, 2**32 - 1, integer=True)  # what numpy and Drake seed with
 JOINT = Interval(-TAU, TAU, "rad or m")
 
 
@@ -228,7 +229,7 @@ def _check_simulation(scenario: Scenario, fail: Fail) -> None:
     _number(fail, "simulation.duration", sim.duration, DURATION)
     # Below 0.1 ms an hour-long run would take days; above 10 ms contact is not stable.
     _number(fail, "simulation.time_step", sim.time_step, Interval(1e-4, 0.01, "s"))
-    _number(fail, "simulation.seed", sim.seed, Interval(0, 2**32 - 1, integer=True))
+    _number(fail, "simulation.seed", sim.seed, SEED)
     _number(fail, "simulation.replay_fps", sim.replay_fps, RATE)
 
 
