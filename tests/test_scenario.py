@@ -378,7 +378,7 @@ def test_run_on_broken_scenario_writes_no_replay(write_scenario, tmp_path, capsy
 def test_bad_cli_arguments_are_one_line_errors(write_scenario, tmp_path, capsys):
     path = write_scenario()
     assert main(["run", str(path), "--duration", "0", "--html", str(tmp_path / "a.html")]) == 2
-    assert "--duration: expected a positive" in capsys.readouterr().err
+    assert "--duration: expected a number in (0, 3600]" in capsys.readouterr().err
     assert main(["run", str(path), "--html", str(tmp_path / "missing" / "a.html")]) == 2
     assert "--html: expected an existing directory" in capsys.readouterr().err
     assert not (tmp_path / "a.html").exists()

@@ -21,7 +21,8 @@ from hsr_handover.human.aiming import (
 )
 from hsr_handover.human.body import ARM_JOINT_SUFFIXES, PERSON_JOINTS, BodyDimensions
 
-ACTIONS = ("rest", "look_at", "point_at", "reach_to", "gesture")
+ACTIONS = ("rest", "look_at", "point_at", "reach_to", "touch", "gesture")
+REACHES = ("reach_to", "touch")  # the hand goes to a point; "touch" without looking at it
 GESTURE_BEAT_S = 0.6  # s between the arm's turns while gesturing (one minimum move)
 PEAK_JOINT_SPEED = 1.5  # rad/s: brisk but human
 MIN_MOVE_TIME = 0.6  # s
@@ -97,10 +98,10 @@ def target_posture(body: BodyDimensions, action: Action) -> np.ndarray:
     """The whole-body joint target for one action (PERSON_JOINTS order), within joint limits."""
     q = rest_posture(body)
     neck = [_INDEX["neck_yaw"], _INDEX["neck_pitch"]]
-    if action.point is not None:
+    if action.point is not None and action.kind != "touch":
         rest = q[neck].copy()
         q[neck] = rest + action.head_fraction * (aim_head(body, action.point) - rest)
-    if action.kind in ("point_at", "reach_to"):
+    if action.kind in ("point_at", *REACHES):
         prefix = "r_" if action.arm == "right" else "l_"
         to_target = action.point - body.shoulder(action.arm)
         if action.kind == "point_at":

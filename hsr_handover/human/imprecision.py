@@ -16,8 +16,7 @@ import math
 
 import numpy as np
 
-BREUER_POINTING_ERROR_DEG = 7.3
-STIEFELHAGEN_HEAD_FRACTION = 0.689
+from hsr_handover.literature import BREUER_POINTING_ERROR_DEG, STIEFELHAGEN_HEAD_FRACTION
 
 
 @dataclasses.dataclass(frozen=True)

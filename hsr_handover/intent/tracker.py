@@ -2,10 +2,17 @@
 ray passes within `d_min` of an object, a face (eq. 17) turned toward the same object, and both
 held for `t_max` seconds.
 
-Each frame is judged on its own (`judge_frame`); `IntentTracker` adds the dwell. A frame that
-lacks the face neither starts nor completes a recognition (missing keypoints never make a
-guess), but it does not break a dwell that the arm keeps pointing through: OpenPose drops a
-face point in about a quarter of frames, and a request is not withdrawn by a blink.
+The face's direction is read as the robot's model of how people look: the head makes only part
+of a gaze shift and the eyes the rest (Stiefelhagen and Zhu 2002: 69 %), so the face's turn
+from the torso's forward direction is scaled by `head_gain` to give where the eyes look. Only
+the turn's horizontal part is used: the objects on a table lie side by side, and the face
+normal's pitch depends on each face's shape. Rays of the last `smoothing_s` seconds are
+averaged: the eq. 17 normal from three points a few cm apart swings 10-30 degrees a frame.
+
+Each frame is judged (`judge`); `IntentTracker` adds the dwell. A frame that lacks the face
+neither starts nor completes a recognition (missing keypoints never make a guess), but it does
+not break a dwell that the arm keeps pointing through: OpenPose drops a face point in about a
+quarter of frames, and a request is not withdrawn by a blink.
 """
 
 from __future__ import annotations
@@ -17,6 +24,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from hsr_handover.intent.rays import Ray, elbow_angle_deg, face_normal, ray_distances, tilt_down
+from hsr_handover.literature import STIEFELHAGEN_HEAD_FRACTION
 from hsr_handover.perception.coco18 import keypoint_index
 
 POINTING_RAYS = ("shoulder_wrist", "elbow_wrist", "eye_wrist")
@@ -28,6 +36,10 @@ ARMS = {
     for side in ("right", "left")
 }
 NOSE, R_EYE, L_EYE = (keypoint_index(name) for name in ("nose", "r_eye", "l_eye"))
+TORSO_PAIRS = tuple(
+    (keypoint_index(f"r_{part}"), keypoint_index(f"l_{part}")) for part in ("shoulder", "hip")
+)
+UP = np.array([0.0, 0.0, 1.0])
 
 NO_SKELETON = "no skeleton"
 NO_CANDIDATES = "no objects detected"
@@ -38,74 +50,62 @@ GAZE_ELSEWHERE = "looking elsewhere"
 POINTING = "pointing"
 RECOGNISED = "recognised"
 
+_RANGES = {  # (low, high, unit, whether low itself is allowed)
+    "straight_arm_deg": (90.0, 180.0, "deg", False), "d_min": (0.0, 2.0, "m", False),
+    "gaze_tolerance_deg": (0.0, 90.0, "deg", False), "t_max": (0.0, 10.0, "s", True),
+    "head_gain": (1.0, 3.0, "", True), "face_tilt_deg": (0.0, 90.0, "deg", True),
+    "smoothing_s": (0.0, 10.0, "s", True),
+}  # fmt: skip
+
 
 @dataclasses.dataclass(frozen=True)
 class IntentParams:
     """The recogniser's thresholds (paper 3.2); defaults measured in the intent experiment.
 
-    straight_arm_deg: eq. 16's elbow angle above which an arm counts as pointing, in (90, 180].
+    straight_arm_deg: eq. 16's elbow angle from which an arm counts as pointing.
     d_min: how near (m) the pointing ray must pass an object's centre.
-    gaze_d_min: how near (m) the gaze ray must pass the same object (the head turns only part
-    of the way, the eyes do the rest, so the face's ray misses by more than the arm's).
+    gaze_tolerance_deg: how far (deg, horizontally) the estimated gaze may be off the object.
     t_max: how long (s) the same object must be asked for.
     pointing_ray: one of POINTING_RAYS.
-    face_tilt_deg: the nose-eyes plane of eq. 17 faces upward by this much when the head faces
-    straight ahead (the nose tip is below and a little ahead of the eyes); the gaze ray is its
-    normal turned down by this angle.
-    gaze_weight: with both rays, the object chosen minimises d_pointing + gaze_weight d_gaze.
+    head_gain: the eyes' turn over the head's (1 / 0.689, Stiefelhagen and Zhu 2002).
+    face_tilt_deg: the nose-eyes plane faces up by this much when the head faces straight ahead
+    (the nose tip is below and a little ahead of the eyes): the drawn gaze ray's pitch only.
     smoothing_s: the rays are averaged over the frames of the last `smoothing_s` seconds.
+    Ranges: each in [low, high] of `_RANGES`; pointing_ray one of POINTING_RAYS.
     """
 
     straight_arm_deg: float = 150.0
-    d_min: float = 0.12
-    gaze_d_min: float = 0.25
+    d_min: float = 0.15
+    gaze_tolerance_deg: float = 12.0
     t_max: float = 0.5
     pointing_ray: str = "shoulder_wrist"
+    head_gain: float = 1.0 / STIEFELHAGEN_HEAD_FRACTION
     face_tilt_deg: float = 23.0
-    gaze_weight: float = 0.5
     smoothing_s: float = 0.4
 
     def __post_init__(self) -> None:
-        if not 90.0 < self.straight_arm_deg <= 180.0:
-            raise ValueError(f"straight_arm_deg: expected (90, 180], got {self.straight_arm_deg}")
-        for name in ("d_min", "gaze_d_min"):
-            if not 0.0 < getattr(self, name) < 2.0:
-                raise ValueError(
-                    f"{name}: expected a distance in (0, 2) m, got {getattr(self, name)}"
-                )
-        if not 0.0 <= self.t_max <= 10.0:
-            raise ValueError(f"t_max: expected a dwell in [0, 10] s, got {self.t_max}")
+        for name, (low, high, unit, closed) in _RANGES.items():
+            value = getattr(self, name)
+            if not (low <= value if closed else low < value) or not value <= high:
+                interval = f"{'[('[not closed]}{low:g}, {high:g}]"
+                raise ValueError(f"{name}: expected {interval} {unit}, got {value}".rstrip())
         if self.pointing_ray not in POINTING_RAYS:
             raise ValueError(f"pointing_ray: expected one of {POINTING_RAYS}")
-        if not 0.0 <= self.face_tilt_deg < 90.0:
-            raise ValueError(f"face_tilt_deg: expected [0, 90) deg, got {self.face_tilt_deg}")
-        if not 0.0 <= self.smoothing_s <= 10.0:
-            raise ValueError(f"smoothing_s: expected [0, 10] s, got {self.smoothing_s}")
-        if not 0.0 <= self.gaze_weight <= 10.0:
-            raise ValueError(f"gaze_weight: expected [0, 10], got {self.gaze_weight}")
-
-
-@dataclasses.dataclass(frozen=True)
-class FrameJudgement:
-    """What one frame shows: the object asked for (None if none), how clearly (1 - best score
-    over the runner-up's), the arm, its elbow angle, the rays, and a status saying why not."""
-
-    candidate: str | None
-    clarity: float
-    status: str
-    arm: str | None = None
-    elbow_angle_deg: float = math.nan
-    pointing: Ray | None = None
-    gaze: Ray | None = None
-    face_seen: bool = False
 
 
 def _seen(points: np.ndarray, confidence: np.ndarray, indices: Sequence[int]) -> bool:
     return all(confidence[i] > 0 and np.isfinite(points[i]).all() for i in indices)
 
 
-def gaze_ray(points: np.ndarray, confidence: np.ndarray, params: IntentParams) -> Ray | None:
-    """The face's ray (eq. 17) from the eyes' midpoint, or None without nose and both eyes."""
+def _horizontal(vector: np.ndarray) -> np.ndarray | None:
+    flat = np.array([vector[0], vector[1], 0.0])
+    length = float(np.linalg.norm(flat))
+    return flat / length if length > 1e-9 else None
+
+
+def face_ray(points: np.ndarray, confidence: np.ndarray, params: IntentParams) -> Ray | None:
+    """The face's ray (eq. 17) from the eyes' midpoint, turned down by the face's tilt; None
+    without the nose and both eyes."""
     if not _seen(points, confidence, (NOSE, R_EYE, L_EYE)):
         return None
     normal = face_normal(points[NOSE], points[R_EYE], points[L_EYE])
@@ -113,6 +113,43 @@ def gaze_ray(points: np.ndarray, confidence: np.ndarray, params: IntentParams) -
         return None
     eyes = (points[R_EYE] + points[L_EYE]) / 2
     return Ray(eyes, tilt_down(normal, params.face_tilt_deg))
+
+
+def torso_forward(points: np.ndarray, confidence: np.ndarray) -> np.ndarray | None:
+    """The horizontal direction the torso faces, square to the shoulders (or else the hips)."""
+    for right, left in TORSO_PAIRS:
+        if _seen(points, confidence, (right, left)):
+            forward = _horizontal(np.cross(points[left] - points[right], UP))
+            if forward is not None:
+                return forward
+    return None
+
+
+def gaze_ray(face: Ray, forward: np.ndarray | None, params: IntentParams) -> Ray:
+    """Where the eyes look: the face's horizontal turn from `forward` times `head_gain`, at the
+    face's pitch (the face's own direction when the torso is not seen)."""
+    heading = _horizontal(face.direction)
+    if forward is None or heading is None:
+        return face
+    turn = math.atan2(np.cross(forward, heading)[2], float(forward @ heading))
+    yaw = math.atan2(forward[1], forward[0]) + params.head_gain * turn
+    pitch = math.asin(float(np.clip(face.direction[2], -1.0, 1.0)))
+    direction = [math.cos(pitch) * math.cos(yaw), math.cos(pitch) * math.sin(yaw), math.sin(pitch)]
+    return Ray(face.origin, np.array(direction))
+
+
+def bearing_errors_deg(ray: Ray, points: np.ndarray) -> np.ndarray:
+    """Horizontal angle (deg) between the ray and the direction from its origin to each point."""
+    heading = _horizontal(ray.direction)
+    errors = []
+    for point in np.asarray(points, dtype=float).reshape(-1, 3):
+        toward = _horizontal(point - ray.origin)
+        if heading is None or toward is None:
+            errors.append(180.0)
+            continue
+        cosine = float(np.clip(heading @ toward, -1.0, 1.0))
+        errors.append(math.degrees(math.acos(cosine)))
+    return np.array(errors)
 
 
 def pointing_rays(
@@ -139,6 +176,52 @@ def pointing_rays(
     return rays
 
 
+@dataclasses.dataclass(frozen=True)
+class Observation:
+    """What a frame shows of the person: the pointing arm (None if no arm is straight), its
+    elbow angle and ray, the face's ray (None without the face) and the torso's forward
+    direction (None without shoulders or hips)."""
+
+    arm: str | None = None
+    elbow_angle_deg: float = math.nan
+    pointing: Ray | None = None
+    face: Ray | None = None
+    forward: np.ndarray | None = None
+
+
+def observe(
+    points: np.ndarray, confidence: np.ndarray, centers: np.ndarray, params: IntentParams
+) -> Observation:
+    """The rays of one lifted COCO-18 skeleton (18 x 3 points, 18 confidences). Of two
+    straight arms, the one whose ray passes nearer an object (`centers`, N x 3) points."""
+    face = face_ray(points, confidence, params)
+    forward = torso_forward(points, confidence)
+    arms = pointing_rays(points, confidence, params)
+    if not arms or len(centers) == 0:
+        return Observation(face=face, forward=forward)
+    arm, angle, ray = min(arms, key=lambda item: ray_distances(item[2], centers).min())
+    return Observation(arm, angle, ray, face, forward)
+
+
+@dataclasses.dataclass(frozen=True)
+class FrameJudgement:
+    """What one frame shows: the object asked for (None if none), how clearly (1 - best score
+    over the runner-up's), a status saying why not, the arm, its elbow angle, the pointing
+    ray and the estimated gaze ray."""
+
+    candidate: str | None
+    clarity: float
+    status: str
+    arm: str | None = None
+    elbow_angle_deg: float = math.nan
+    pointing: Ray | None = None
+    gaze: Ray | None = None
+
+    @property
+    def face_seen(self) -> bool:
+        return self.gaze is not None
+
+
 def _clarity(scores: np.ndarray, best: int) -> float:
     """1 - best / runner-up: 0 for a tie, near 1 when one object stands out."""
     if len(scores) < 2:
@@ -147,59 +230,43 @@ def _clarity(scores: np.ndarray, best: int) -> float:
     return float(np.clip(1.0 - scores[best] / max(runner_up, 1e-9), 0.0, 1.0))
 
 
-@dataclasses.dataclass(frozen=True)
-class Observation:
-    """What a frame shows of the person: the pointing arm (None if no arm is straight), its
-    elbow angle, its ray, and the gaze ray (None without the face)."""
-
-    arm: str | None = None
-    elbow_angle_deg: float = math.nan
-    pointing: Ray | None = None
-    gaze: Ray | None = None
-
-
-def observe(
-    points: np.ndarray, confidence: np.ndarray, centers: np.ndarray, params: IntentParams
-) -> Observation:
-    """The rays of one lifted COCO-18 skeleton (18 x 3 points, 18 confidences). Of two
-    straight arms, the one whose ray passes nearer an object (`centers`, N x 3) points."""
-    gaze = gaze_ray(points, confidence, params)
-    arms = pointing_rays(points, confidence, params)
-    if not arms or len(centers) == 0:
-        return Observation(gaze=gaze)
-    arm, angle, ray = min(arms, key=lambda item: ray_distances(item[2], centers).min())
-    return Observation(arm, angle, ray, gaze)
-
-
 def judge(
     observation: Observation,
     candidates: Sequence[tuple[str, np.ndarray]],
     params: IntentParams,
 ) -> FrameJudgement:
-    """The object the observed rays ask for among the (label, centre) candidates."""
+    """The object the observed rays ask for among the (label, centre) candidates: the one with
+    the least (d / d_min)^2 + (gaze error / gaze_tolerance_deg)^2, if both are within bounds."""
     labels = [label for label, _ in candidates]
     centers = np.array([center for _, center in candidates], dtype=float).reshape(-1, 3)
-    gaze, ray = observation.gaze, observation.pointing
-    seen = dict(
-        arm=observation.arm, elbow_angle_deg=observation.elbow_angle_deg, pointing=ray,
-        gaze=gaze, face_seen=gaze is not None,
-    )  # fmt: skip
+    face, ray = observation.face, observation.pointing
+    gaze = None if face is None else gaze_ray(face, observation.forward, params)
+    seen = dict(arm=observation.arm, elbow_angle_deg=observation.elbow_angle_deg, pointing=ray,
+                gaze=gaze)  # fmt: skip
     if ray is None:
         return FrameJudgement(None, 0.0, NO_POINTING, **seen)
-    distances = ray_distances(ray, centers)
+    pointing = ray_distances(ray, centers) / params.d_min
     if gaze is None:
-        best = int(np.argmin(distances))
-        pointed = labels[best] if distances[best] <= params.d_min else None
+        best = int(np.argmin(pointing))
+        pointed = labels[best] if pointing[best] <= 1.0 else None
         status = NO_FACE if pointed else NOTHING_POINTED_AT
-        return FrameJudgement(pointed, _clarity(distances, best), status, **seen)
-    gaze_distances = ray_distances(gaze, centers)
-    scores = distances + params.gaze_weight * gaze_distances
+        return FrameJudgement(pointed, _clarity(pointing, best), status, **seen)
+    looking = bearing_errors_deg(gaze, centers) / params.gaze_tolerance_deg
+    scores = pointing**2 + looking**2
     best = int(np.argmin(scores))
-    if distances[best] > params.d_min:
+    if pointing[best] > 1.0:
         return FrameJudgement(None, 0.0, NOTHING_POINTED_AT, **seen)
-    if gaze_distances[best] > params.gaze_d_min:
+    if looking[best] > 1.0:
         return FrameJudgement(None, 0.0, GAZE_ELSEWHERE, **seen)
     return FrameJudgement(labels[best], _clarity(scores, best), POINTING, **seen)
+
+
+def _nothing_to_judge(confidence: np.ndarray, candidates: Sequence) -> FrameJudgement | None:
+    if not np.any(np.asarray(confidence) > 0):
+        return FrameJudgement(None, 0.0, NO_SKELETON)
+    if not candidates:
+        return FrameJudgement(None, 0.0, NO_CANDIDATES)
+    return None
 
 
 def judge_frame(
@@ -216,24 +283,15 @@ def judge_frame(
     return judge(observe(points, confidence, centers, params), candidates, params)
 
 
-def _nothing_to_judge(confidence: np.ndarray, candidates: Sequence) -> FrameJudgement | None:
-    if not np.any(np.asarray(confidence) > 0):
-        return FrameJudgement(None, 0.0, NO_SKELETON)
-    if not candidates:
-        return FrameJudgement(None, 0.0, NO_CANDIDATES)
-    return None
-
-
 class RaySmoother:
-    """The mean of the rays seen over the last `window` seconds: the face's ray from three
-    points a few cm apart swings by 10-30 degrees from frame to frame, while the head holds
-    still for the length of a request. A pointing ray's history restarts when the arm changes
-    or stops pointing; a frame without a face adds nothing to the gaze's."""
+    """The mean of the rays seen over the last `window` seconds. A pointing ray's history
+    restarts when the arm changes or stops pointing; a frame without a face adds nothing to
+    the face's."""
 
     def __init__(self, window: float):
         self.window = window
         self._pointing: list[tuple[float, Ray]] = []
-        self._gaze: list[tuple[float, Ray]] = []
+        self._face: list[tuple[float, Ray]] = []
         self._arm: str | None = None
 
     def smooth(self, time: float, observation: Observation) -> Observation:
@@ -241,8 +299,8 @@ class RaySmoother:
             self._pointing = []
         self._arm = observation.arm
         pointing = self._add(self._pointing, time, observation.pointing)
-        gaze = self._add(self._gaze, time, observation.gaze)
-        return dataclasses.replace(observation, pointing=pointing, gaze=gaze)
+        face = self._add(self._face, time, observation.face)
+        return dataclasses.replace(observation, pointing=pointing, face=face)
 
     def _add(self, history: list, time: float, ray: Ray | None) -> Ray | None:
         if ray is None:

@@ -37,7 +37,7 @@ from hsr_handover.hsr import (
     actuated_joint_names,
     add_hsr,
 )
-from hsr_handover.human.behavior import ACTIONS
+from hsr_handover.human.behavior import ACTIONS, REACHES
 from hsr_handover.perception.attention import FOCUS_KINDS
 from hsr_handover.perception.object_colors import OBJECT_COLORS
 from hsr_handover.scenario.schema import ObjectConfig, Scenario, ScenarioError
@@ -375,7 +375,7 @@ def _check_person(scenario: Scenario, fail: Fail) -> None:
         _choice(fail, f"{key}.arm", action.arm, ("right", "left"))
         if action.action in ("look_at", "point_at"):
             _choice(fail, f"{key}.target", action.target, names, "the objects ")
-        layout = "[x, y, z] for reach_to" if action.action == "reach_to" else ""
+        layout = f"[x, y, z] for {action.action}" if action.action in REACHES else ""
         _numbers(fail, f"{key}.point", action.point, ROOM, layout)
 
 

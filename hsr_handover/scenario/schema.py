@@ -103,8 +103,9 @@ class ObjectConfig:
 class ActionConfig:
     """One timed action of the person's script.
 
-    action: "look_at" (target), "point_at" (target), "reach_to" (point [x, y, z]), "gesture"
-    (talking with the `arm`'s hand, elbow bent) or "rest".
+    action: "look_at" (target), "point_at" (target), "reach_to" (point [x, y, z]), "touch" (point:
+    the hand goes there without the eyes following, to scratch the head or lay an arm down),
+    "gesture" (talking with the `arm`'s hand, elbow bent) or "rest".
     start: when it begins (s). duration: how long it lasts (s); by default until the next action
     starts. The person rests between an action's end and the next one's start.
     arm: "right" or "left", the arm that points or reaches.
@@ -259,20 +260,23 @@ class IntentConfig:
     """The robot's pointing-intent recogniser (paper 3.2, eqs. 16-17), which runs whenever
     perception does: an arm straighter than `straight_arm_deg` (eq. 16's elbow angle) whose
     `pointing_ray` ("shoulder_wrist", "elbow_wrist" or "eye_wrist") passes within `d_min` of an
-    object, a gaze ray (eq. 17's face normal turned down by `face_tilt_deg`) within
-    `gaze_d_min` of the same object, both for `t_max`; with both rays the object minimising
-    d_pointing + `gaze_weight` d_gaze is chosen. Defaults: `hsr_handover.intent.IntentParams`.
+    object, and the eyes' direction (eq. 17's face normal, its turn from the torso's forward
+    direction scaled by `head_gain`) within `gaze_tolerance_deg` of the same object, both for
+    `t_max`, over rays averaged across `smoothing_s`; `face_tilt_deg` only pitches the drawn
+    gaze ray. The meaning and the measured defaults: `hsr_handover.intent.IntentParams`.
 
-    Ranges: straight_arm_deg in (90, 180] deg; d_min, gaze_d_min in (0, 2) m; t_max in [0, 10] s;
-    face_tilt_deg in [0, 90) deg; gaze_weight in [0, 10]."""
+    Ranges: straight_arm_deg in (90, 180] deg; d_min in (0, 2] m; gaze_tolerance_deg in (0, 90]
+    deg; t_max in [0, 10] s; head_gain in [1, 3]; face_tilt_deg in [0, 90] deg; smoothing_s in
+    [0, 10] s."""
 
     straight_arm_deg: float = IntentParams.straight_arm_deg
     d_min: float = IntentParams.d_min
-    gaze_d_min: float = IntentParams.gaze_d_min
+    gaze_tolerance_deg: float = IntentParams.gaze_tolerance_deg
     t_max: float = IntentParams.t_max
     pointing_ray: str = IntentParams.pointing_ray
+    head_gain: float = IntentParams.head_gain
     face_tilt_deg: float = IntentParams.face_tilt_deg
-    gaze_weight: float = IntentParams.gaze_weight
+    smoothing_s: float = IntentParams.smoothing_s
 
     def params(self) -> IntentParams:
         """The recogniser's parameters (raises ValueError naming a field out of range)."""

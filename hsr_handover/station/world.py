@@ -11,7 +11,7 @@ from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import ModelInstanceIndex
 
 from hsr_handover.hsr import GRIPPER_JOINT, GRIPPER_MIMIC_JOINT, TORSO_JOINT
-from hsr_handover.human.behavior import Action
+from hsr_handover.human.behavior import REACHES, Action
 from hsr_handover.human.body import BodyDimensions
 from hsr_handover.human.imprecision import (
     draw_head_fraction,
@@ -59,7 +59,7 @@ def person_actions(scenario: Scenario, body: BodyDimensions) -> list[Action]:
     actions = []
     for item in scenario.person.behavior:
         world_point = centers.get(item.target) if item.target else None
-        if item.action == "reach_to":
+        if item.action in REACHES:
             world_point = np.asarray(item.point, dtype=float)
         point = None if world_point is None else to_person @ world_point
         if item.action == "point_at":

@@ -10,6 +10,7 @@ import numpy as np
 from hsr_handover.human.aiming import arm_points, pointing_arm_angles, rot_z
 from hsr_handover.human.behavior import aim_head, head_rotation
 from hsr_handover.human.body import BodyDimensions
+from hsr_handover.literature import STIEFELHAGEN_HEAD_FRACTION
 from hsr_handover.perception.coco18 import COCO18_KEYPOINTS
 
 BODY = BodyDimensions.from_height(1.70, seated=True)
@@ -31,7 +32,10 @@ def keypoints(look_at=None, point_with=None, point_at=None, arm_angles=None):
     """World COCO-18 keypoints of the seated person: the head aimed at `look_at` (or level),
     the `point_with` arm straight at `point_at` (or given `arm_angles`), the other resting."""
     pivot = BODY.neck_pivot()
-    yaw_pitch = aim_head(BODY, to_person(look_at)) if look_at is not None else (0.0, 0.2)
+    rest = np.array([0.0, 0.2])  # the rest posture's head: level, a little down
+    yaw_pitch = rest
+    if look_at is not None:  # the head turns its share of the way; the eyes do the rest
+        yaw_pitch = rest + STIEFELHAGEN_HEAD_FRACTION * (aim_head(BODY, to_person(look_at)) - rest)
     face = {k: pivot + head_rotation(*yaw_pitch) @ v for k, v in BODY.face_points().items()}
     points = {**face, "neck": pivot}
     for side in ("right", "left"):

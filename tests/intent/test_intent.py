@@ -16,11 +16,15 @@ from hsr_handover.intent.tracker import (
     NO_FACE,
     NO_POINTING,
     NO_SKELETON,
+    NOTHING_POINTED_AT,
     POINTING,
     RECOGNISED,
     Observation,
     RaySmoother,
+    bearing_errors_deg,
+    gaze_ray,
     judge_frame,
+    torso_forward,
 )
 from hsr_handover.perception.coco18 import keypoint_index
 from tests.intent.synthetic_person import BODY, CUPS, keypoints, to_person
@@ -95,7 +99,9 @@ def test_frames_that_do_not_ask_say_why():
     assert judge_frame(points, confidence, CUPS, params).status == NO_POINTING
     # Pointing at the red cup while looking at the blue one, 44 cm away.
     points, confidence = keypoints(look_at=CUPS[2][1], point_with="right", point_at=center)
-    assert judge_frame(points, confidence, CUPS, params).status == GAZE_ELSEWHERE
+    mismatched = judge_frame(points, confidence, CUPS, params)
+    assert mismatched.candidate is None
+    assert mismatched.status in (GAZE_ELSEWHERE, NOTHING_POINTED_AT)
 
 
 def test_without_a_face_the_frame_is_unsure():
@@ -155,7 +161,8 @@ def test_looking_elsewhere_breaks_the_dwell():
     tracker = IntentTracker(IntentParams(t_max=0.3, smoothing_s=0.0))
     _frames(tracker, [0.0, 0.1, 0.2], target=0)
     broken = _frames(tracker, [0.25], target=0, look=CUPS[2][1])[0]
-    assert broken.candidate is None and broken.frame.status == GAZE_ELSEWHERE
+    assert broken.candidate is None
+    assert broken.frame.status in (GAZE_ELSEWHERE, NOTHING_POINTED_AT)
     states = _frames(tracker, [0.3, 0.4, 0.5, 0.6], target=0)
     assert [s.target for s in states] == [None, None, None, "red"]
 
@@ -196,3 +203,22 @@ def test_the_smoother_restarts_the_pointing_ray_when_the_arm_changes():
     np.testing.assert_allclose(smoother.smooth(0.1, left).pointing.direction, [0, 1, 0])
     mixed = smoother.smooth(0.2, Observation("left", 180.0, Ray.through([0, 0, 0], [1, 0, 0])))
     np.testing.assert_allclose(mixed.pointing.direction, np.array([1, 1, 0]) / np.sqrt(2))
+
+
+def test_the_torso_faces_square_to_the_shoulders_or_the_hips():
+    points, confidence = keypoints()
+    np.testing.assert_allclose(torso_forward(points, confidence), [-1.0, 0.0, 0.0], atol=1e-9)
+    no_shoulder = _without(confidence, "r_shoulder")
+    np.testing.assert_allclose(torso_forward(points, no_shoulder), [-1.0, 0.0, 0.0], atol=1e-9)
+    assert torso_forward(points, _without(no_shoulder, "l_hip")) is None
+
+
+def test_the_eyes_turn_head_gain_times_as_far_as_the_face():
+    face = Ray(np.zeros(3), np.array([math.cos(0.3), math.sin(0.3), -0.2]))
+    face = Ray(face.origin, face.direction / np.linalg.norm(face.direction))
+    gaze = gaze_ray(face, np.array([1.0, 0.0, 0.0]), IntentParams(head_gain=1.5))
+    assert math.atan2(gaze.direction[1], gaze.direction[0]) == pytest.approx(0.45)
+    assert gaze.direction[2] == pytest.approx(face.direction[2])
+    assert gaze_ray(face, None, IntentParams()) is face  # no torso: the face's own direction
+    errors = bearing_errors_deg(gaze, np.array([[1.0, math.tan(0.45), -5.0], [1.0, 0.0, 0.0]]))
+    np.testing.assert_allclose(errors, [0.0, math.degrees(0.45)], atol=1e-9)
