@@ -21,8 +21,33 @@ class UsageError(Exception):
     """Bad user input found before anything runs."""
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with its errors on one line (`error: ...`, exit 2), like every other error."""
+
+    def error(self, message: str):
+        print(f"error: {self.prog}: {message}", file=sys.stderr)
+        raise SystemExit(EXIT_USAGE)
+
+
+def _add_experiment_parsers(commands) -> None:
+    experiment = commands.add_parser("experiment", help="run one of the paper's experiments")
+    kinds = experiment.add_subparsers(dest="experiment", required=True)
+    intent = kinds.add_parser(
+        "intent", help="which object the person points at and looks at (paper 4.2)"
+    )
+    intent.add_argument("scenario", type=Path, help="scenario YAML with two or more objects")
+    intent.add_argument("--trials", type=int, default=60, help="requests (default 60)")
+    intent.add_argument("--distractors", type=int, default=0, help="trials with no request")
+    intent.add_argument("--seed", type=int, default=0, help="seed of the whole experiment")
+    intent.add_argument("--workers", type=int, help="local worker processes (default: cores)")
+    intent.add_argument("--ray-address", help="run the trials on this existing Ray cluster")
+    intent.add_argument("--csv", type=Path, help="one row per trial (.csv)")
+    intent.add_argument("--json", type=Path, help="summary (.json)")
+    intent.add_argument("--plot", type=Path, help="figure beside the paper's figures (.png)")
+
+
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="hsr-handover",
         description="Toyota HSR handover by topological mapping, simulated in Drake.",
     )
@@ -45,6 +70,7 @@ def _parser() -> argparse.ArgumentParser:
     attention.add_argument("--html", type=Path, help="replay to write (.html)")
     attention.add_argument("--duration", type=float, help="simulated seconds (overrides the file)")
     attention.add_argument("--seed", type=int, help="random seed (overrides the file)")
+    _add_experiment_parsers(commands)
     return parser
 
 
@@ -169,11 +195,61 @@ def _attention(args: argparse.Namespace) -> int:
     return 0
 
 
+def _count(value: int | None, option: str, low: int, high: int) -> None:
+    if value is not None and not low <= value <= high:
+        raise UsageError(f"{option}: expected an integer in [{low}, {high}], got {value}")
+
+
+def _intent_experiment(args: argparse.Namespace) -> int:
+    from hsr_handover.experiments.intent import run_intent_experiment, summarise
+    from hsr_handover.experiments.intent_report import plot, summary_lines, write_csv
+    from hsr_handover.experiments.reporting import write_json
+    from hsr_handover.experiments.trials import TrialProgress
+    from hsr_handover.scenario import load_scenario
+    from hsr_handover.scenario.checks import SEED
+
+    scenario = load_scenario(args.scenario)
+    if len(scenario.objects) < 2:
+        raise UsageError(f"{args.scenario}: objects: expected two or more to choose between")
+    _count(args.trials, "--trials", 1, 100_000)
+    _count(args.distractors, "--distractors", 0, 100_000)
+    _count(args.workers, "--workers", 1, 1024)
+    if args.seed not in SEED:
+        raise UsageError(f"--seed: expected an integer in {SEED}, got {args.seed}")
+    outputs = {
+        "csv": _output_path(args.csv, "--csv", ".csv"),
+        "json": _output_path(args.json, "--json", ".json"),
+        "plot": _output_path(args.plot, "--plot", ".png"),
+    }
+    experiment = run_intent_experiment(
+        scenario, args.trials, args.distractors, args.seed, args.workers, args.ray_address,
+        TrialProgress(),
+    )  # fmt: skip
+    summary = summarise(experiment)
+    writers = {
+        "csv": lambda path: write_csv(experiment.rows(), path),
+        "json": lambda path: write_json(summary, path),
+        "plot": lambda path: plot(summary, path),
+    }
+    for name, path in outputs.items():
+        if path is not None:
+            writers[name](path)
+            print(f"wrote {path}")
+    print("\n".join(summary_lines(summary)))
+    return 0
+
+
+def _experiment(args: argparse.Namespace) -> int:
+    return {"intent": _intent_experiment}[args.experiment](args)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     from hsr_handover.scenario import ScenarioError
 
-    handlers = {"run": _run, "validate": _validate, "attention": _attention}
+    handlers = {
+        "run": _run, "validate": _validate, "attention": _attention, "experiment": _experiment,
+    }  # fmt: skip
     try:
         return handlers[args.command](args)
     except (ScenarioError, UsageError) as error:

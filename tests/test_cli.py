@@ -12,7 +12,7 @@ import sys
 import pytest
 
 from hsr_handover.cli import _ProgressBar
-from hsr_handover.experiments.attention_report import format_value
+from hsr_handover.experiments.reporting import format_value
 from tests.conftest import SCENARIOS, meshcat_commands
 
 FULL_BAR = "[" + "#" * 30 + "]"

@@ -4,7 +4,6 @@
 from __future__ import annotations
 
 import csv
-import json
 import math
 from pathlib import Path
 
@@ -14,16 +13,8 @@ matplotlib.use("Agg")  # files only: no display on a robot's or CI's machine
 import matplotlib.pyplot as plt  # noqa: E402
 
 from hsr_handover.experiments.attention import AttentionResult  # noqa: E402
-
-UNDEFINED = "n/a"  # the text summary's word for a value the JSON writes as null
-
-
-def format_value(value: float, spec: str, unit: str = "") -> str:
-    """`value` formatted with `spec` and followed by `unit`, or "n/a" (as wide, no unit) where it
-    is undefined: NaN or infinite, which the JSON summary writes as null."""
-    if math.isfinite(value):
-        return f"{value:{spec}}{unit}"
-    return UNDEFINED.rjust(len(f"{math.nan:{spec}}"))
+from hsr_handover.experiments.reporting import format_value  # noqa: E402
+from hsr_handover.experiments.reporting import write_json as write_summary  # noqa: E402
 
 
 def summary_lines(result: AttentionResult) -> list[str]:
@@ -48,19 +39,9 @@ def summary_lines(result: AttentionResult) -> list[str]:
     return lines
 
 
-def _json_safe(value):
-    if isinstance(value, float):
-        return value if math.isfinite(value) else None
-    if isinstance(value, dict):
-        return {key: _json_safe(item) for key, item in value.items()}
-    if isinstance(value, list | tuple):
-        return [_json_safe(item) for item in value]
-    return value
-
-
 def write_json(result: AttentionResult, path: Path) -> None:
     """Summary with `density_ratio` and `settle_time_s` (null where undefined)."""
-    Path(path).write_text(json.dumps(_json_safe(result.summary()), indent=2) + "\n")
+    write_summary(result.summary(), path)
 
 
 def write_csv(result: AttentionResult, path: Path) -> None:

@@ -1,0 +1,86 @@
+"""Write the intent experiment's results: a CSV row per trial, the JSON summary, a text table,
+and a figure with the paper's figures beside ours."""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")  # files only: no display on a robot's or CI's machine
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from hsr_handover.experiments.intent import POSITIONS  # noqa: E402
+from hsr_handover.experiments.reporting import format_value  # noqa: E402
+
+CSV_COLUMNS = (
+    "index", "kind", "target", "arm", "recognised", "latency_s", "recognised_time_s",
+    "confidence", "seed", "person_height_m", "person_x_m", "person_y_m", "person_yaw_rad",
+    "sim_s", "wall_s", "error",
+)  # fmt: skip
+
+
+def write_csv(rows: list[dict], path: Path) -> None:
+    """One row per trial, failed trials included with their reason."""
+    with open(path, "w", newline="") as stream:
+        writer = csv.DictWriter(stream, CSV_COLUMNS, extrasaction="ignore")
+        writer.writeheader()
+        for row in rows:
+            writer.writerow({key: _cell(row.get(key, "")) for key in CSV_COLUMNS})
+
+
+def _cell(value):
+    return f"{value:.4g}" if isinstance(value, float) else value
+
+
+def summary_lines(summary: dict) -> list[str]:
+    """The summary as text: success by position beside the paper's, then the rest."""
+    percent = lambda value: format_value(100 * value, "5.1f", " %")  # noqa: E731
+    lines = [f"{'position':8s} {'ours':>8s} {'paper':>8s}"]
+    for side in POSITIONS:
+        ours, paper = summary["by_position"][side], summary["paper_by_position"][side]
+        lines.append(f"{side:8s} {percent(ours):>8s} {percent(paper):>8s}")
+    latency = summary["latency_s"]
+    lines += [
+        f"success over {summary['trials']} requests: {percent(summary['success_rate'])}",
+        f"false triggers over {summary['distractor_trials']} distractor trials: "
+        + percent(summary["false_trigger_rate"]),
+        f"latency from pointing onset: median {format_value(latency['median'], '.2f', ' s')}, "
+        f"p95 {format_value(latency['p95'], '.2f', ' s')}",
+        f"failed trials: {summary['failed_trials']}",
+        *(f"  trial {f['index']}: {f['error']}" for f in summary["failures"]),
+        f"wall time {summary['wall_s']:.0f} s",
+    ]
+    return lines
+
+
+def plot(summary: dict, path: Path) -> None:
+    """Left: success by position, ours beside the paper's. Right: the confusion matrix."""
+    figure, (bars, matrix) = plt.subplots(1, 2, figsize=(11, 4.2))
+    x = np.arange(len(POSITIONS))
+    ours = [100 * summary["by_position"][side] for side in POSITIONS]
+    paper = [100 * summary["paper_by_position"][side] for side in POSITIONS]
+    bars.bar(x - 0.2, ours, 0.4, label="ours (simulated)", color="tab:blue")
+    bars.bar(x + 0.2, paper, 0.4, label="paper (60 real trials)", color="tab:gray")
+    bars.set_xticks(x, [f"{side}\n(person's view)" for side in POSITIONS])
+    bars.set_ylim(0, 105)
+    bars.set_ylabel("target recognised (%)")
+    false_rate = format_value(100 * summary["false_trigger_rate"], ".1f", " %")
+    bars.set_title(f"Intent recognition, {summary['trials']} requests; false triggers {false_rate}")
+    bars.legend(loc="lower right")
+    names = list(summary["confusion"])
+    columns = [*names, "none"]
+    counts = np.array([[summary["confusion"][row][col] for col in columns] for row in names])
+    matrix.imshow(counts, cmap="Blues")
+    matrix.set_xticks(range(len(columns)), columns, rotation=30, ha="right")
+    matrix.set_yticks(range(len(names)), names)
+    matrix.set_xlabel("recognised")
+    matrix.set_ylabel("asked for")
+    matrix.set_title("Confusion (trials)")
+    for (row, col), count in np.ndenumerate(counts):
+        matrix.text(col, row, str(count), ha="center", va="center")
+    figure.tight_layout()
+    figure.savefig(path, dpi=120)
+    plt.close(figure)

@@ -1,0 +1,35 @@
+"""What every experiment's report shares: JSON with null where a figure is undefined, and the
+text summary's word for it."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+UNDEFINED = "n/a"  # the text summary's word for a value the JSON writes as null
+
+
+def json_safe(value: Any) -> Any:
+    """`value` with every NaN or infinite float replaced by None (JSON's null), recursively."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {key: json_safe(item) for key, item in value.items()}
+    if isinstance(value, list | tuple):
+        return [json_safe(item) for item in value]
+    return value
+
+
+def write_json(summary: dict, path: Path) -> None:
+    """The summary as indented JSON, null where undefined."""
+    Path(path).write_text(json.dumps(json_safe(summary), indent=2) + "\n")
+
+
+def format_value(value: float, spec: str, unit: str = "") -> str:
+    """`value` formatted with `spec` and followed by `unit`, or "n/a" (as wide, no unit) where it
+    is undefined: NaN or infinite, which the JSON summary writes as null."""
+    if math.isfinite(value):
+        return f"{value:{spec}}{unit}"
+    return UNDEFINED.rjust(len(f"{math.nan:{spec}}"))

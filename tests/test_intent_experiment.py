@@ -1,0 +1,128 @@
+"""The intent experiment: trials made reproducibly, scored as the paper scores them, and run
+from the command line."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from hsr_handover.cli import main
+from hsr_handover.experiments.intent import (
+    DISTRACTORS,
+    IntentExperiment,
+    make_trials,
+    object_positions,
+    summarise,
+)
+from hsr_handover.experiments.intent_report import plot, summary_lines, write_csv
+from hsr_handover.experiments.trials import TrialOutcome
+from hsr_handover.scenario import load_scenario
+from tests.conftest import SCENARIOS
+
+
+@pytest.fixture(scope="module")
+def base():
+    return load_scenario(SCENARIOS / "intent_reference.yaml")
+
+
+def test_objects_are_classed_from_the_persons_point_of_view(base):
+    # The person faces the robot (-x): the person's left is world -y.
+    assert object_positions(base) == {"red_cup": "left", "green_cup": "centre",
+                                      "blue_cup": "right"}  # fmt: skip
+
+
+def test_trials_cycle_targets_and_are_the_same_for_the_same_seed(base):
+    trials = make_trials(base, 7, 5, seed=3)
+    assert [t.target for t in trials[:7]] == ["red_cup", "green_cup", "blue_cup"] * 2 + ["red_cup"]
+    assert [t.kind for t in trials[7:]] == [*DISTRACTORS, DISTRACTORS[0]]
+    again = make_trials(base, 7, 5, seed=3)
+    assert [t.scenario for t in again] == [t.scenario for t in trials]
+    other = make_trials(base, 7, 5, seed=4)
+    assert other[0].scenario.person.height != trials[0].scenario.person.height
+    seeds = {t.scenario.simulation.seed for t in trials}
+    assert len(seeds) == len(trials)  # every trial its own person and noise
+
+
+def test_a_request_trial_looks_then_points_and_ends_after_it(base):
+    (trial,) = make_trials(base, 1, 0, seed=0)
+    look, point = trial.scenario.person.behavior
+    assert (look.action, point.action, point.target) == ("look_at", "point_at", "red_cup")
+    assert point.start == pytest.approx(trial.pointing_onset) and point.start > look.start
+    assert trial.scenario.simulation.duration > point.start + point.duration
+    assert trial.scenario.perception.enabled and not trial.scenario.camera.render_label
+    distractors = make_trials(base, 0, 4, seed=0)
+    actions = [[a.action for a in t.scenario.person.behavior] for t in distractors]
+    assert actions == [["gesture"], ["touch"], ["touch"], ["look_at"]]
+    assert all("point_at" not in kinds for kinds in actions)
+
+
+def _outcome(index, recognised, latency=1.0, ok=True):
+    result = {"index": index, "recognised": recognised, "latency_s": latency} if ok else None
+    return TrialOutcome(index, ok, result, "" if ok else "ValueError: boom", 1.0)
+
+
+def test_the_summary_scores_success_by_position_false_triggers_and_failures(base, tmp_path):
+    trials = make_trials(base, 6, 2, seed=1)
+    recognised = ["red_cup", "green_cup", "red_cup", "red_cup", "", None, "", "blue_cup"]
+    outcomes = []
+    for trial, name in zip(trials, recognised, strict=True):
+        outcome = _outcome(trial.index, name, ok=name is not None)
+        if outcome.ok:
+            outcome.result.update(kind=trial.kind, target=trial.target, arm=trial.arm)
+        outcomes.append(outcome)
+    summary = summarise(IntentExperiment(trials, outcomes, base, 1, 12.0))
+    assert summary["trials"] == 6 and summary["distractor_trials"] == 2
+    assert summary["by_position"] == {"left": 1.0, "centre": 0.5, "right": 0.0}
+    assert summary["by_object"]["red_cup"] == 1.0 and summary["success_rate"] == 3 / 6
+    assert summary["confusion"]["blue_cup"] == {"red_cup": 1, "green_cup": 0, "blue_cup": 0,
+                                                "none": 1}  # fmt: skip
+    assert summary["false_trigger_rate"] == 0.5
+    assert summary["failed_trials"] == 1 and summary["failures"][0]["error"] == "ValueError: boom"
+    assert summary["latency_s"]["median"] == 1.0
+    assert summary["person_model"]["imprecision"]["pointing_error_deg"] == pytest.approx(7.3)
+    lines = "\n".join(summary_lines(summary))
+    assert "78.3 %" in lines and "ValueError: boom" in lines
+    write_csv(IntentExperiment(trials, outcomes, base, 1, 12.0).rows(), tmp_path / "t.csv")
+    assert len((tmp_path / "t.csv").read_text().splitlines()) == 9
+    plot(summary, tmp_path / "t.png")
+    assert (tmp_path / "t.png").stat().st_size > 10_000
+
+
+@pytest.mark.parametrize(
+    "arguments, expected",
+    [
+        (["--trials", "0"], "--trials: expected an integer in [1, 100000], got 0"),
+        (["--workers", "0"], "--workers: expected an integer in [1, 1024], got 0"),
+        (["--seed", "-3"], "--seed: expected an integer in [0, 4294967295], got -3"),
+        (["--json", "out.txt"], "--json: expected a path ending in .json, got 'out.txt'"),
+    ],
+)
+def test_bad_arguments_are_one_line_errors(capsys, arguments, expected):
+    code = main(["experiment", "intent", str(SCENARIOS / "intent_reference.yaml"), *arguments])
+    assert code == 2 and capsys.readouterr().err.strip() == f"error: {expected}"
+
+
+def test_a_scenario_with_one_object_has_nothing_to_choose(capsys, write_scenario):
+    def one_cup(data):
+        data["objects"] = data["objects"][:1]
+        data["person"]["behavior"] = []
+
+    code = main(["experiment", "intent", str(write_scenario(one_cup))])
+    assert code == 2 and "objects: expected two or more" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_the_command_runs_trials_in_parallel_and_writes_its_results(tmp_path):
+    outputs = {kind: tmp_path / f"intent.{kind}" for kind in ("json", "csv", "png")}
+    code = main(["experiment", "intent", str(SCENARIOS / "intent_reference.yaml"),
+                 "--trials", "3", "--distractors", "1", "--workers", "2",
+                 "--json", str(outputs["json"]), "--csv", str(outputs["csv"]),
+                 "--plot", str(outputs["png"])])  # fmt: skip
+    assert code == 0
+    summary = json.loads(outputs["json"].read_text())
+    for key in ("trials", "success_rate", "by_position", "by_object", "false_trigger_rate",
+                "latency_s", "person_model", "wall_s"):  # fmt: skip
+        assert key in summary, key
+    assert summary["trials"] == 3 and summary["failed_trials"] == 0
+    assert 0.0 <= summary["success_rate"] <= 1.0 and summary["wall_s"] > 0
