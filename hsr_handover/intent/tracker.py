@@ -36,9 +36,15 @@ ARMS = {
     for side in ("right", "left")
 }
 NOSE, R_EYE, L_EYE = (keypoint_index(name) for name in ("nose", "r_eye", "l_eye"))
-TORSO_PAIRS = tuple(
-    (keypoint_index(f"r_{part}"), keypoint_index(f"l_{part}")) for part in ("shoulder", "hip")
-)
+NECK = keypoint_index("neck")
+R_SHOULDER, L_SHOULDER = keypoint_index("r_shoulder"), keypoint_index("l_shoulder")
+# Pairs (a point on the person's right, one on their left) across the torso; for a pointing
+# arm, its own shoulder is left out: lifted, it lands on the raised arm, a hand's width off.
+TORSO_PAIRS = {
+    None: ((R_SHOULDER, L_SHOULDER), (keypoint_index("r_hip"), keypoint_index("l_hip"))),
+    "right": ((NECK, L_SHOULDER),),
+    "left": ((R_SHOULDER, NECK),),
+}
 UP = np.array([0.0, 0.0, 1.0])
 
 NO_SKELETON = "no skeleton"
@@ -75,7 +81,7 @@ class IntentParams:
     """
 
     straight_arm_deg: float = 150.0
-    d_min: float = 0.15
+    d_min: float = 0.2
     gaze_tolerance_deg: float = 12.0
     t_max: float = 0.5
     pointing_ray: str = "shoulder_wrist"
@@ -115,9 +121,12 @@ def face_ray(points: np.ndarray, confidence: np.ndarray, params: IntentParams) -
     return Ray(eyes, tilt_down(normal, params.face_tilt_deg))
 
 
-def torso_forward(points: np.ndarray, confidence: np.ndarray) -> np.ndarray | None:
-    """The horizontal direction the torso faces, square to the shoulders (or else the hips)."""
-    for right, left in TORSO_PAIRS:
+def torso_forward(
+    points: np.ndarray, confidence: np.ndarray, pointing_arm: str | None = None
+) -> np.ndarray | None:
+    """The horizontal direction the torso faces, square to the shoulders (or else the hips);
+    with a `pointing_arm`, square to the neck and the other shoulder."""
+    for right, left in TORSO_PAIRS[pointing_arm]:
         if _seen(points, confidence, (right, left)):
             forward = _horizontal(np.cross(points[left] - points[right], UP))
             if forward is not None:
@@ -195,12 +204,11 @@ def observe(
     """The rays of one lifted COCO-18 skeleton (18 x 3 points, 18 confidences). Of two
     straight arms, the one whose ray passes nearer an object (`centers`, N x 3) points."""
     face = face_ray(points, confidence, params)
-    forward = torso_forward(points, confidence)
     arms = pointing_rays(points, confidence, params)
     if not arms or len(centers) == 0:
-        return Observation(face=face, forward=forward)
+        return Observation(face=face, forward=torso_forward(points, confidence))
     arm, angle, ray = min(arms, key=lambda item: ray_distances(item[2], centers).min())
-    return Observation(arm, angle, ray, face, forward)
+    return Observation(arm, angle, ray, face, torso_forward(points, confidence, arm))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -338,6 +346,18 @@ class IntentTracker:
         self.params = IntentParams() if params is None else params
         self.state_ = IntentState()
         self._smoother = RaySmoother(self.params.smoothing_s)
+        self._resting_forward: np.ndarray | None = None
+
+    def _steady_forward(self, observation: Observation) -> Observation:
+        """A seated person turns the head, not the torso: the torso's direction seen while no
+        arm points (both shoulders in place) stands for it while one does."""
+        if observation.pointing is None:
+            if observation.forward is not None:
+                self._resting_forward = observation.forward
+            return observation
+        if self._resting_forward is None:
+            return observation
+        return dataclasses.replace(observation, forward=self._resting_forward)
 
     def update(
         self,
@@ -351,7 +371,7 @@ class IntentTracker:
         frame = _nothing_to_judge(confidence, candidates)
         if frame is None:
             centers = np.array([center for _, center in candidates], dtype=float)
-            seen = observe(points, confidence, centers, self.params)
+            seen = self._steady_forward(observe(points, confidence, centers, self.params))
             frame = judge(self._smoother.smooth(time, seen), candidates, self.params)
         state = self.state_
         if state.target is not None:

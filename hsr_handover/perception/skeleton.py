@@ -50,7 +50,12 @@ INTERIOR_CONFIDENCE = 0.9
 BORDER_CONFIDENCE = 0.6
 BORDER_BAND_PX = 32.0
 
-# Half-size of the depth window a keypoint is lifted from: a 5 x 5 median survives a pixel
+# The depth a keypoint is lifted with: a low percentile of the valid depths in a 5 x 5 window.
+# A limb is a few pixels wide and stands in front of whatever is behind it, so a pixel that
+# slips off its edge onto the table or the wall reads farther: the near quarter of the window is
+# the limb, where a median would take the background once half the window has slipped off.
+DEPTH_PERCENTILE = 25.0
+# Half-size of the depth window a keypoint is lifted from: the window survives a pixel
 # that slips off a limb's edge onto the background or a depth hole.
 DEPTH_WINDOW_HALF = 2
 
@@ -302,8 +307,8 @@ def detect_keypoints(
 
 
 def window_depths(depth: np.ndarray, pixels: np.ndarray) -> np.ndarray:
-    """Median of the valid depths in the 5 x 5 window around each in-image pixel (N, 2);
-    NaN where the window holds no valid depth."""
+    """The DEPTH_PERCENTILE of the valid depths in the 5 x 5 window around each in-image pixel
+    (N, 2); NaN where the window holds no valid depth."""
     u, v = _pixel_indices(pixels)
     result = np.full(len(pixels), np.nan)
     h = DEPTH_WINDOW_HALF
@@ -311,7 +316,7 @@ def window_depths(depth: np.ndarray, pixels: np.ndarray) -> np.ndarray:
         window = depth[max(row - h, 0) : row + h + 1, max(col - h, 0) : col + h + 1]
         values = window[valid_depth(window)]
         if values.size:
-            result[i] = np.median(values)
+            result[i] = np.percentile(values, DEPTH_PERCENTILE)
     return result
 
 
