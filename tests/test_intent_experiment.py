@@ -3,6 +3,8 @@ from the command line."""
 
 from __future__ import annotations
 
+import copy
+import dataclasses
 import json
 
 import pytest
@@ -13,11 +15,13 @@ from hsr_handover.experiments.intent import (
     IntentExperiment,
     make_trials,
     object_positions,
+    replay_intent,
+    run_intent_trial,
     summarise,
 )
 from hsr_handover.experiments.intent_report import plot, summary_lines, write_csv
 from hsr_handover.experiments.trials import TrialOutcome
-from hsr_handover.scenario import load_scenario
+from hsr_handover.scenario import ImprecisionConfig, load_scenario
 from tests.conftest import SCENARIOS
 
 
@@ -126,3 +130,16 @@ def test_the_command_runs_trials_in_parallel_and_writes_its_results(tmp_path):
         assert key in summary, key
     assert summary["trials"] == 3 and summary["failed_trials"] == 0
     assert 0.0 <= summary["success_rate"] <= 1.0 and summary["wall_s"] > 0
+
+
+def test_one_trial_end_to_end_the_robot_names_the_cup_it_was_asked_for(base):
+    """Station, robot and recogniser together, on one request by an exact person; the recorded
+    percepts replayed offline reach the same recognition at the same time."""
+    exact = copy.deepcopy(base)
+    exact.person.imprecision = ImprecisionConfig(0.0, 1.0, 0.0)
+    (trial,) = make_trials(exact, 1, 0, seed=11)
+    result = run_intent_trial(dataclasses.replace(trial, record_percepts=True))
+    assert result["recognised"] == trial.target
+    assert 0.5 <= result["latency_s"] <= 3.0
+    offline = replay_intent(result["percepts"], exact.intent.params())
+    assert offline.recognised_time == result["recognised_time_s"]
