@@ -13,6 +13,8 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
+from hsr_handover.progress import ProgressBar
+
 EXIT_USAGE = 2
 EXIT_FAILED = 1
 
@@ -107,31 +109,15 @@ def _apply_overrides(scenario, args: argparse.Namespace) -> None:
         scenario.simulation.seed = args.seed
 
 
-class _ProgressBar:
-    """A bar over simulated time on stderr: redrawn in place on a terminal, otherwise one line
-    per tenth so logs stay short."""
-
-    def __init__(self, width: int = 30):
-        self._width = width
-        self._interactive = sys.stderr.isatty()
-        self._last_tenth = -1
+class _ProgressBar(ProgressBar):
+    """A bar over simulated time, `progress(now, total)`."""
 
     def __call__(self, now: float, total: float) -> None:
-        # The runner adds up float steps and may stop a rounding error short of the total
-        # (0.09 s a hundred times is 8.99999999999999 s): that last call is the end all the same.
+        # A runner that adds up float steps may stop a rounding error short of the total (0.09 s
+        # a hundred times is 8.99999999999999 s): that last call is the end all the same.
         done = now >= total - 1e-9 * max(total, 1.0)
         now = total if done else now
-        tenth = int(10 * now / total)
-        if not self._interactive and tenth == self._last_tenth and not done:
-            return
-        self._last_tenth = tenth
-        filled = int(self._width * now / total)
-        bar = "#" * filled + "." * (self._width - filled)
-        text = f"[{bar}] {now:6.2f} / {total:.2f} s simulated"
-        if self._interactive:
-            print("\r" + text, end="\n" if done else "", file=sys.stderr, flush=True)
-        else:
-            print(text, file=sys.stderr, flush=True)
+        self.show(now / total, f"{now:6.2f} / {total:.2f} s simulated", done)
 
 
 def _run(args: argparse.Namespace) -> int:

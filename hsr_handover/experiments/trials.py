@@ -14,13 +14,14 @@ from __future__ import annotations
 
 import multiprocessing
 import os
-import sys
 import time
 from collections.abc import Callable, Iterable
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from typing import Any
+
+from hsr_handover.progress import ProgressBar
 
 Progress = Callable[[int, int, int], None]
 """Called as `progress(done, total, failed)` once per finished trial."""
@@ -73,29 +74,12 @@ def run_trials(
     return tally.outcomes()
 
 
-class TrialProgress:
-    """A bar over trials on stderr, `progress(done, total, failed)`: redrawn in place on a
-    terminal, otherwise one line per tenth so CI logs stay short; it ends at total / total."""
-
-    def __init__(self, width: int = 30):
-        self._width = width
-        self._interactive = sys.stderr.isatty()
-        self._last_tenth = -1
+class TrialProgress(ProgressBar):
+    """A bar over trials, `progress(done, total, failed)`; it ends at total / total."""
 
     def __call__(self, done: int, total: int, failed: int) -> None:
-        finished = done >= total
-        fraction = 1.0 if finished else done / total
-        tenth = int(10 * fraction)
-        if not self._interactive and tenth == self._last_tenth and not finished:
-            return
-        self._last_tenth = tenth
-        filled = int(self._width * fraction)
-        bar = "#" * filled + "." * (self._width - filled)
-        text = f"[{bar}] {done:{len(str(total))}d} / {total} trials, {failed} failed"
-        if self._interactive:
-            print("\r" + text, end="\n" if finished else "", file=sys.stderr, flush=True)
-        else:
-            print(text, file=sys.stderr, flush=True)
+        label = f"{done:{len(str(total))}d} / {total} trials, {failed} failed"
+        self.show(done / total if total else 1.0, label, done >= total)
 
 
 class _Tally:
