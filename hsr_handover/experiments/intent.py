@@ -20,13 +20,15 @@ import time
 from collections.abc import Sequence
 
 import numpy as np
+from pydrake.systems.framework import Context, EventStatus
 
 from hsr_handover.experiments.trials import Progress, TrialOutcome, run_trials
 from hsr_handover.human.body import BodyDimensions
 from hsr_handover.intent import IntentParams, IntentState, IntentTracker
 from hsr_handover.scenario import ActionConfig, Scenario, object_center
-from hsr_handover.simulation import run_scenario
+from hsr_handover.simulation import Simulation, run_scenario
 from hsr_handover.station import person_pose
+from hsr_handover.systems.frame_timing import PROCESSING_DELAY_S
 
 DISTRACTORS = ("gesture", "arm_on_table", "scratch_head", "look_only")
 """Trials with no request: talking with the hands, a straight arm resting toward the table,
@@ -105,9 +107,11 @@ def _make_trial(base: Scenario, index: int, kind: str, target: str, rng) -> Inte
     return IntentTrial(index, kind, target, arm, onset + lead, scenario)
 
 
-def _script(scenario: Scenario, kind: str, target: str, arm: str, onset: float, lead: float,
-            duration: float) -> list[ActionConfig]:  # fmt: skip
-    """The person's behaviour for one trial."""
+def _script(
+    scenario: Scenario, kind: str, target: str, arm: str, onset: float, lead: float, duration: float
+) -> list[ActionConfig]:
+    """The person's behaviour for one trial: look at `target` from `onset`, point at it `lead`
+    later for `duration` (a request), or one of the DISTRACTORS for as long."""
     look = ActionConfig("look_at", onset, target=target)
     if kind == "request":
         point = ActionConfig("point_at", onset + lead, duration, target=target, arm=arm)
@@ -162,20 +166,19 @@ class PerceptRecorder:
     """A simulator monitor that keeps the intent estimator's inputs of every camera frame, so
     other thresholds can be tried offline on the same percepts (`replay_intent`)."""
 
-    def __init__(self, simulation):
+    def __init__(self, simulation: Simulation):
         self._simulation, self._last = simulation, math.nan
         self.frames: list[PerceivedFrame] = []
 
-    def __call__(self, context):
-        from pydrake.systems.framework import EventStatus
-
+    def __call__(self, context: Context) -> EventStatus:
         robot = self._simulation.robot.diagram
         robot_context = self._simulation.robot_context(context)
         station = self._simulation.station.diagram
         image_time = station.GetOutputPort("camera_image_time").Eval(
             self._simulation.station_context(context)
         )
-        if image_time != self._last and context.get_time() >= image_time + 2e-3:
+        # Once the estimator has judged the new frame (see frame_timing), as it saw it.
+        if image_time != self._last and context.get_time() >= image_time + 2 * PROCESSING_DELAY_S:
             self._last = image_time
             skeleton = robot.GetOutputPort("skeleton").Eval(robot_context)
             detections = robot.GetOutputPort("detections").Eval(robot_context).detections
@@ -202,7 +205,7 @@ def run_intent_trial(trial: IntentTrial) -> dict:
     start = time.perf_counter()
     recorders: list[PerceptRecorder] = []
 
-    def recorder(simulation) -> PerceptRecorder:
+    def recorder(simulation: Simulation) -> PerceptRecorder:
         recorders.append(PerceptRecorder(simulation))
         return recorders[-1]
 
