@@ -11,7 +11,7 @@ import numpy as np
 
 from hsr_handover.perception.cloud_map import GraphSnapshot
 
-# The scene map spends ~120 nodes on a table-top scene, about 8-10 cm apart: a real object has
+# The scene map spends 200-300 nodes on a table-top scene, about 5-8 cm apart: a real object has
 # a node within that spacing of its centre; a detection with a wrong depth, floating in the air
 # or sunk into the table, has none.
 SUPPORT_RADIUS = 0.08  # m
