@@ -19,7 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
-from hsr_handover.experiments.intent import make_trials, replay_intent, run_intent_trial
+from hsr_handover.experiments.intent import run_intent_trial
+from hsr_handover.experiments.intent_percepts import replay_intent
+from hsr_handover.experiments.intent_trials import make_trials
 from hsr_handover.experiments.trials import TrialProgress, run_trials
 from hsr_handover.intent import IntentParams
 from hsr_handover.scenario import load_scenario

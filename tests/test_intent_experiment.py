@@ -10,16 +10,10 @@ import json
 import pytest
 
 from hsr_handover.cli import main
-from hsr_handover.experiments.intent import (
-    DISTRACTORS,
-    IntentExperiment,
-    make_trials,
-    object_positions,
-    replay_intent,
-    run_intent_trial,
-    summarise,
-)
+from hsr_handover.experiments.intent import IntentExperiment, run_intent_trial, summarise
+from hsr_handover.experiments.intent_percepts import replay_intent
 from hsr_handover.experiments.intent_report import plot, summary_lines, write_csv
+from hsr_handover.experiments.intent_trials import DISTRACTORS, make_trials, object_positions
 from hsr_handover.experiments.trials import TrialOutcome
 from hsr_handover.scenario import ImprecisionConfig, load_scenario
 from tests.conftest import SCENARIOS
