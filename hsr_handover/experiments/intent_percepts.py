@@ -12,6 +12,7 @@ import numpy as np
 from pydrake.systems.framework import Context, EventStatus
 
 from hsr_handover.intent import IntentParams, IntentState, IntentTracker
+from hsr_handover.perception.cross_check import confirmed_candidates
 from hsr_handover.simulation import Simulation
 from hsr_handover.systems.frame_timing import PROCESSING_DELAY_S
 
@@ -48,8 +49,7 @@ class PerceptRecorder:
             skeleton = robot.GetOutputPort("skeleton").Eval(robot_context)
             detections = robot.GetOutputPort("detections").Eval(robot_context).detections
             support = robot.GetOutputPort("detection_support").Eval(robot_context)
-            confirmed = {s.label for s in support if s.confirmed}
-            candidates = tuple((d.label, d.center) for d in detections if d.label in confirmed)
+            candidates = tuple(confirmed_candidates(detections, support))
             self.frames.append(
                 PerceivedFrame(image_time, skeleton.points, skeleton.confidence, candidates)
             )

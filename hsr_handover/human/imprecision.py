@@ -29,11 +29,6 @@ class Imprecision:
     head_turn_fraction: float = STIEFELHAGEN_HEAD_FRACTION
     head_turn_fraction_sd: float = 0.08
 
-    @classmethod
-    def exact(cls) -> Imprecision:
-        """A person who points and looks straight at targets."""
-        return cls(0.0, 1.0, 0.0)
-
 
 def draw_head_fraction(rng: np.random.Generator, imprecision: Imprecision) -> float:
     """One person's share of gaze shifts made by the head, kept within [0.3, 1]."""

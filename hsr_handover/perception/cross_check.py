@@ -29,6 +29,15 @@ class DetectionSupport:
     confirmed: bool
 
 
+def confirmed_candidates(
+    detections: Sequence, supports: Sequence[DetectionSupport]
+) -> list[tuple[str, np.ndarray]]:
+    """(label, centre) of the detections (anything with `label` and `center`) that the map
+    confirms: the candidates a request may name."""
+    confirmed = {support.label for support in supports if support.confirmed}
+    return [(d.label, d.center) for d in detections if d.label in confirmed]
+
+
 def support_of(
     detections: Sequence[tuple[str, np.ndarray]], graph: GraphSnapshot
 ) -> tuple[DetectionSupport, ...]:

@@ -8,6 +8,7 @@ from pydrake.common.value import AbstractValue
 from pydrake.systems.framework import Context, LeafSystem, State
 
 from hsr_handover.intent import IntentParams, IntentState, IntentTracker
+from hsr_handover.perception.cross_check import confirmed_candidates
 from hsr_handover.systems.frame_timing import PROCESSING_DELAY_S
 
 
@@ -49,11 +50,9 @@ class IntentEstimator(LeafSystem):
 
     def _candidates(self, context: Context) -> list:
         detections = self._detections.Eval(context).detections
-        pairs = [(d.label, d.center) for d in detections]
         if not self._support.HasValue(context):
-            return pairs
-        confirmed = {s.label for s in self._support.Eval(context) if s.confirmed}
-        return [(label, center) for label, center in pairs if label in confirmed]
+            return [(d.label, d.center) for d in detections]
+        return confirmed_candidates(detections, self._support.Eval(context))
 
     def _judge(self, context: Context, state: State) -> None:
         tracker: IntentTracker = state.get_mutable_abstract_state(self._tracker).get_value()

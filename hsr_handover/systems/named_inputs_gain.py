@@ -24,7 +24,11 @@ class NamedInputsGain(LeafSystem):
             raise ValueError(f"D: expected {sum(sizes)} columns for inputs {sizes}, got {D.shape}")
         self._D = D
         self._inputs = [self.DeclareVectorInputPort(name, size) for name, size in inputs]
-        self.DeclareVectorOutputPort(output_name, D.shape[0], self._calc)
+        # Recomputed only when an input changes, not every step of the plant that reads it.
+        self.DeclareVectorOutputPort(
+            output_name, D.shape[0], self._calc,
+            prerequisites_of_calc={self.all_input_ports_ticket()},
+        )  # fmt: skip
 
     def _calc(self, context: Context, output: BasicVector) -> None:
         for port in self._inputs:
