@@ -8,8 +8,15 @@ import math
 import numpy as np
 import pytest
 
-from hsr_handover.human.behavior import Action, aim_head, posture_changes, rest_posture
-from hsr_handover.human.body import PERSON_JOINTS, BodyDimensions
+from hsr_handover.human.aiming import pointing_arm_angles
+from hsr_handover.human.behavior import (
+    Action,
+    aim_head,
+    posture_changes,
+    rest_posture,
+    target_posture,
+)
+from hsr_handover.human.body import ARM_JOINT_SUFFIXES, PERSON_JOINTS, BodyDimensions
 from hsr_handover.human.imprecision import perturb_direction
 from hsr_handover.scenario import load_scenario
 from hsr_handover.station.world import person_actions
@@ -44,7 +51,7 @@ def test_pointing_errors_have_the_literature_mean_and_head_turns_fall_short():
         actions, exact = _pointing_and_looking(seed)
         point, true = actions[-1], exact[-1]
         shoulder = BODY.shoulder(point.arm)
-        errors.append(_angle_deg(point.point - shoulder, true.point - shoulder))
+        errors.append(_angle_deg(point.arm_point - shoulder, true.point - shoulder))
         fractions.append(point.head_fraction)
     assert np.mean(errors) == pytest.approx(7.3, abs=0.6)  # Breuer et al. 2010
     assert np.mean(fractions) == pytest.approx(0.689, abs=0.02)  # Stiefelhagen and Zhu 2002
@@ -55,8 +62,8 @@ def test_the_same_seed_gives_the_same_person():
     first, _ = _pointing_and_looking(4)
     again, _ = _pointing_and_looking(4)
     other, _ = _pointing_and_looking(5)
-    np.testing.assert_array_equal(first[-1].point, again[-1].point)
-    assert not np.array_equal(first[-1].point, other[-1].point)
+    np.testing.assert_array_equal(first[-1].arm_point, again[-1].arm_point)
+    assert not np.array_equal(first[-1].arm_point, other[-1].arm_point)
 
 
 def test_the_head_makes_its_fraction_of_the_turn():
@@ -68,6 +75,21 @@ def test_the_head_makes_its_fraction_of_the_turn():
     turned = changes[look.start][neck]
     full = aim_head(BODY, look.point)
     np.testing.assert_allclose(turned - rest, look.head_fraction * (full - rest), atol=1e-12)
+
+
+def test_the_eyes_stay_on_the_target_while_the_arm_misses_it():
+    actions, exact = _pointing_and_looking(3)
+    point = actions[-1]
+    np.testing.assert_allclose(point.point, exact[-1].point)  # looked at: the object itself
+    assert _angle_deg(point.arm_point - BODY.shoulder(point.arm), point.point) > 0.1
+    posture = target_posture(BODY, point)
+    neck = [PERSON_JOINTS.index("neck_yaw"), PERSON_JOINTS.index("neck_pitch")]
+    rest = rest_posture(BODY)[neck]
+    full = aim_head(BODY, point.point)
+    np.testing.assert_allclose(posture[neck] - rest, point.head_fraction * (full - rest))
+    arm = [PERSON_JOINTS.index(f"{point.arm[0]}_{s}") for s in ARM_JOINT_SUFFIXES]
+    aimed = pointing_arm_angles(point.arm_point - BODY.shoulder(point.arm))
+    np.testing.assert_allclose(posture[arm], aimed)
 
 
 def test_perturbing_keeps_length_and_turns_by_the_error():

@@ -46,8 +46,10 @@ class Action:
     """A scripted action with its target already in the person frame.
 
     kind: one of ACTIONS. end: None lasts until the next action. point: the object or point
-    aimed at (person frame), None for rest and gesture. arm: "right" or "left".
+    looked at or reached for (person frame), None for rest and gesture. arm: "right" or "left".
     head_fraction: the share of the turn toward `point` the head makes (the eyes do the rest).
+    arm_point: where a pointing arm aims when it misses `point` (the person's pointing error);
+    None aims at `point`. The eyes stay on `point`: the arm errs, the gaze does not follow it.
     """
 
     kind: str
@@ -56,6 +58,7 @@ class Action:
     point: np.ndarray | None = None
     arm: str = "right"
     head_fraction: float = 1.0
+    arm_point: np.ndarray | None = None
 
 
 def rest_posture(body: BodyDimensions) -> np.ndarray:
@@ -103,7 +106,8 @@ def target_posture(body: BodyDimensions, action: Action) -> np.ndarray:
         q[neck] = rest + action.head_fraction * (aim_head(body, action.point) - rest)
     if action.kind in ("point_at", *REACHES):
         prefix = "r_" if action.arm == "right" else "l_"
-        to_target = action.point - body.shoulder(action.arm)
+        aimed = action.point if action.arm_point is None else action.arm_point
+        to_target = aimed - body.shoulder(action.arm)
         if action.kind == "point_at":
             arm = pointing_arm_angles(to_target)
         else:

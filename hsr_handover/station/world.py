@@ -45,9 +45,9 @@ def couple_default_positions(
 
 def person_actions(scenario: Scenario, body: BodyDimensions) -> list[Action]:
     """The scenario's behaviour script with object names resolved to points in the person frame,
-    made as imprecise as `person.imprecision` says: each pointing gesture turned off the
-    shoulder-to-target ray by its own drawn error, every head turn short by this person's drawn
-    fraction. The draws come from the run's seed.
+    made as imprecise as `person.imprecision` says: each pointing arm turned off the
+    shoulder-to-target ray by its own drawn error (the eyes stay on the target), every head turn
+    short by this person's drawn fraction. The draws come from the run's seed.
 
     The actor is part of the simulated world, so it may know where the objects really are.
     """
@@ -62,12 +62,15 @@ def person_actions(scenario: Scenario, body: BodyDimensions) -> list[Action]:
         if item.action in REACHES:
             world_point = np.asarray(item.point, dtype=float)
         point = None if world_point is None else to_person @ world_point
+        arm_point = None
         if item.action == "point_at":
             shoulder = body.shoulder(item.arm)
             error = draw_pointing_error(rng, imprecision.pointing_error_deg)
-            point = shoulder + perturb_direction(point - shoulder, error)
+            arm_point = shoulder + perturb_direction(point - shoulder, error)
         end = None if item.duration is None else item.start + item.duration
-        actions.append(Action(item.action, item.start, end, point, item.arm, head_fraction))
+        actions.append(
+            Action(item.action, item.start, end, point, item.arm, head_fraction, arm_point)
+        )
     return actions
 
 
