@@ -50,6 +50,7 @@ UP = np.array([0.0, 0.0, 1.0])
 NO_SKELETON = "no skeleton"
 NO_CANDIDATES = "no objects detected"
 NO_POINTING = "no straight arm"
+ARM_MOVING = "arm still moving"
 NOTHING_POINTED_AT = "pointing at nothing"
 NO_FACE = "unsure: face not seen"
 GAZE_ELSEWHERE = "looking elsewhere"
@@ -60,7 +61,7 @@ _RANGES = {  # (low, high, unit, whether low itself is allowed)
     "straight_arm_deg": (90.0, 180.0, "deg", False), "d_min": (0.0, 2.0, "m", False),
     "gaze_tolerance_deg": (0.0, 90.0, "deg", False), "t_max": (0.0, 10.0, "s", True),
     "head_gain": (1.0, 3.0, "", True), "face_tilt_deg": (0.0, 90.0, "deg", True),
-    "smoothing_s": (0.0, 10.0, "s", True),
+    "smoothing_s": (0.0, 10.0, "s", True), "steady_deg_s": (0.0, 1000.0, "deg/s", False),
 }  # fmt: skip
 
 
@@ -77,17 +78,20 @@ class IntentParams:
     face_tilt_deg: the nose-eyes plane faces up by this much when the head faces straight ahead
     (the nose tip is below and a little ahead of the eyes): the drawn gaze ray's pitch only.
     smoothing_s: the rays are averaged over the frames of the last `smoothing_s` seconds.
+    steady_deg_s: the pointing ray counts only while it turns slower than this (deg/s) over
+    that window: a gesture is read in its hold, not while the arm sweeps toward the target.
     Ranges: each in [low, high] of `_RANGES`; pointing_ray one of POINTING_RAYS.
     """
 
     straight_arm_deg: float = 150.0
-    d_min: float = 0.2
+    d_min: float = 0.3
     gaze_tolerance_deg: float = 12.0
     t_max: float = 0.5
     pointing_ray: str = "shoulder_wrist"
     head_gain: float = 1.0 / STIEFELHAGEN_HEAD_FRACTION
     face_tilt_deg: float = 23.0
     smoothing_s: float = 0.4
+    steady_deg_s: float = 30.0
 
     def __post_init__(self) -> None:
         for name, (low, high, unit, closed) in _RANGES.items():
@@ -189,13 +193,15 @@ def pointing_rays(
 class Observation:
     """What a frame shows of the person: the pointing arm (None if no arm is straight), its
     elbow angle and ray, the face's ray (None without the face) and the torso's forward
-    direction (None without shoulders or hips)."""
+    direction (None without shoulders or hips); how fast (deg/s) the pointing ray turns, where
+    it is known (`RaySmoother`), infinite until enough frames show it."""
 
     arm: str | None = None
     elbow_angle_deg: float = math.nan
     pointing: Ray | None = None
     face: Ray | None = None
     forward: np.ndarray | None = None
+    sweep_deg_s: float = 0.0
 
 
 def observe(
@@ -253,6 +259,8 @@ def judge(
                 gaze=gaze)  # fmt: skip
     if ray is None:
         return FrameJudgement(None, 0.0, NO_POINTING, **seen)
+    if not observation.sweep_deg_s <= params.steady_deg_s:
+        return FrameJudgement(None, 0.0, ARM_MOVING, **seen)
     pointing = ray_distances(ray, centers) / params.d_min
     if gaze is None:
         best = int(np.argmin(pointing))
@@ -291,10 +299,26 @@ def judge_frame(
     return judge(observe(points, confidence, centers, params), candidates, params)
 
 
+def _mean_ray(history: Sequence[tuple[float, Ray]]) -> Ray:
+    direction = np.sum([ray.direction for _, ray in history], axis=0)
+    origin = np.mean([ray.origin for _, ray in history], axis=0)
+    return Ray(origin, direction / np.linalg.norm(direction))
+
+
+def _angle_deg(a: np.ndarray, b: np.ndarray) -> float:
+    return math.degrees(math.acos(float(np.clip(a @ b, -1.0, 1.0))))
+
+
 class RaySmoother:
-    """The mean of the rays seen over the last `window` seconds. A pointing ray's history
-    restarts when the arm changes or stops pointing; a frame without a face adds nothing to
-    the face's."""
+    """The mean of the rays seen over the last `window` seconds, and how fast the pointing ray
+    turns: the angle between the mean directions of the window's older and newer halves over
+    the time between them (averaging first, so that the keypoints' jitter does not read as
+    motion). A pointing ray's history restarts when the arm changes or stops pointing. A frame
+    without a face adds nothing to the face's history but is given the window's mean: the face
+    seen in the last `window` seconds, never a guess (OpenPose drops a face point in about a
+    quarter of frames; without a face seen in the window, there is no face)."""
+
+    MIN_FRAMES = 4  # for a turning rate: two frames in each half
 
     def __init__(self, window: float):
         self.window = window
@@ -308,16 +332,24 @@ class RaySmoother:
         self._arm = observation.arm
         pointing = self._add(self._pointing, time, observation.pointing)
         face = self._add(self._face, time, observation.face)
-        return dataclasses.replace(observation, pointing=pointing, face=face)
+        sweep = self._sweep_deg_s() if pointing is not None else 0.0
+        return dataclasses.replace(observation, pointing=pointing, face=face, sweep_deg_s=sweep)
 
     def _add(self, history: list, time: float, ray: Ray | None) -> Ray | None:
-        if ray is None:
-            return None
-        history.append((time, ray))
+        if ray is not None:
+            history.append((time, ray))
         history[:] = [(t, r) for t, r in history if t > time - self.window - 1e-9]
-        origin = np.mean([r.origin for _, r in history], axis=0)
-        direction = np.sum([r.direction for _, r in history], axis=0)
-        return Ray(origin, direction / np.linalg.norm(direction))
+        return _mean_ray(history) if history else None
+
+    def _sweep_deg_s(self) -> float:
+        history = self._pointing
+        if len(history) < self.MIN_FRAMES:
+            return math.inf if self.window > 0 else 0.0
+        half = len(history) // 2
+        older, newer = history[:half], history[half:]
+        elapsed = np.mean([t for t, _ in newer]) - np.mean([t for t, _ in older])
+        turn = _angle_deg(_mean_ray(older).direction, _mean_ray(newer).direction)
+        return turn / max(float(elapsed), 1e-9)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -346,18 +378,19 @@ class IntentTracker:
         self.params = IntentParams() if params is None else params
         self.state_ = IntentState()
         self._smoother = RaySmoother(self.params.smoothing_s)
-        self._resting_forward: np.ndarray | None = None
+        self._forward_sum = np.zeros(3)
 
     def _steady_forward(self, observation: Observation) -> Observation:
-        """A seated person turns the head, not the torso: the torso's direction seen while no
-        arm points (both shoulders in place) stands for it while one does."""
-        if observation.pointing is None:
-            if observation.forward is not None:
-                self._resting_forward = observation.forward
+        """A seated person turns the head, not the torso: the mean of the torso's directions
+        seen while no arm points (both shoulders in place) stands for it. Lifted shoulders
+        jitter by a few degrees a frame, and the estimated gaze inherits (head_gain - 1) of
+        the torso's error."""
+        if observation.pointing is None and observation.forward is not None:
+            self._forward_sum = self._forward_sum + observation.forward
+        length = float(np.linalg.norm(self._forward_sum))
+        if length < 1e-9:
             return observation
-        if self._resting_forward is None:
-            return observation
-        return dataclasses.replace(observation, forward=self._resting_forward)
+        return dataclasses.replace(observation, forward=self._forward_sum / length)
 
     def update(
         self,

@@ -267,7 +267,7 @@ class IntentConfig:
 
     Ranges: straight_arm_deg in (90, 180] deg; d_min in (0, 2] m; gaze_tolerance_deg in (0, 90]
     deg; t_max in [0, 10] s; head_gain in [1, 3]; face_tilt_deg in [0, 90] deg; smoothing_s in
-    [0, 10] s."""
+    [0, 10] s; steady_deg_s in (0, 1000] deg/s."""
 
     straight_arm_deg: float = IntentParams.straight_arm_deg
     d_min: float = IntentParams.d_min
@@ -277,6 +277,7 @@ class IntentConfig:
     head_gain: float = IntentParams.head_gain
     face_tilt_deg: float = IntentParams.face_tilt_deg
     smoothing_s: float = IntentParams.smoothing_s
+    steady_deg_s: float = IntentParams.steady_deg_s
 
     def params(self) -> IntentParams:
         """The recogniser's parameters (raises ValueError naming a field out of range)."""

@@ -7,10 +7,12 @@ import math
 import numpy as np
 import pytest
 
+from hsr_handover.human.aiming import pointing_arm_angles
 from hsr_handover.human.behavior import reaching_arm_angles
 from hsr_handover.intent import IntentParams, IntentTracker, Ray, elbow_angle_deg, face_normal
 from hsr_handover.intent.rays import ray_distances, tilt_down
 from hsr_handover.intent.tracker import (
+    ARM_MOVING,
     GAZE_ELSEWHERE,
     NO_CANDIDATES,
     NO_FACE,
@@ -24,6 +26,7 @@ from hsr_handover.intent.tracker import (
     bearing_errors_deg,
     gaze_ray,
     judge_frame,
+    observe,
     torso_forward,
 )
 from hsr_handover.perception.coco18 import keypoint_index
@@ -128,7 +131,9 @@ def test_the_dwell_recognises_after_t_max_and_latches():
     tracker = IntentTracker(IntentParams(t_max=0.5))
     states = _frames(tracker, np.arange(0.0, 1.0, 1 / 30))
     recognised = [s for s in states if s.target is not None]
-    assert recognised[0].recognised_time == pytest.approx(0.5, abs=1 / 30)
+    # The dwell starts once the arm is known to hold still (RaySmoother.MIN_FRAMES frames).
+    start = (RaySmoother.MIN_FRAMES - 1) / 30
+    assert recognised[0].recognised_time == pytest.approx(start + 0.5, abs=1 / 30)
     assert all(s.target == "green" and s.status == RECOGNISED for s in recognised)
     assert states[5].target is None and states[5].candidate == "green"
     later = _frames(tracker, [1.2], target=0)[0]  # pointing elsewhere later changes nothing
@@ -222,3 +227,47 @@ def test_the_eyes_turn_head_gain_times_as_far_as_the_face():
     assert gaze_ray(face, None, IntentParams()) is face  # no torso: the face's own direction
     errors = bearing_errors_deg(gaze, np.array([[1.0, math.tan(0.45), -5.0], [1.0, 0.0, 0.0]]))
     np.testing.assert_allclose(errors, [0.0, math.degrees(0.45)], atol=1e-9)
+
+
+def test_a_sweeping_arm_is_read_only_once_it_holds():
+    """An arm that swings across the cups (60 deg/s) names none of them; held on the blue cup,
+    it names it after the dwell."""
+    tracker = IntentTracker(IntentParams(t_max=0.3))
+    label, center = CUPS[2]
+    start = np.radians([-1.45, 0.5, 0.0, 0.0, 0.0])  # straight, off to the person's left
+    final = pointing_arm_angles(to_person(center) - BODY.shoulder("right"))
+    states, times = [], np.arange(0.0, 2.0, 1 / 30)
+    for time in times:
+        swing = min(time / 1.0, 1.0)  # reaches the cup at 1 s, then holds
+        angles = start + swing * (final - start)
+        points, confidence = keypoints(look_at=center, point_with="right", arm_angles=angles)
+        states.append(tracker.update(time, points, confidence, CUPS))
+    sweeping = [s for s, t in zip(states, times, strict=True) if 0.2 < t < 0.9]
+    assert all(s.candidate is None and s.frame.status == ARM_MOVING for s in sweeping)
+    assert states[-1].target == label and states[-1].recognised_time > 1.3
+
+
+def test_a_face_dropped_for_a_frame_is_the_windows_face_and_one_long_gone_is_none():
+    points, confidence = keypoints(look_at=CUPS[0][1], point_with="right", point_at=CUPS[0][1])
+    faceless = _without(confidence, "nose")
+    smoother = RaySmoother(0.4)
+    params = IntentParams()
+    centers = np.array([center for _, center in CUPS])
+    seen = smoother.smooth(0.0, observe(points, confidence, centers, params))
+    dropped = smoother.smooth(0.1, observe(points, faceless, centers, params))
+    np.testing.assert_allclose(dropped.face.direction, seen.face.direction)
+    assert smoother.smooth(0.6, observe(points, faceless, centers, params)).face is None
+
+
+def test_the_torso_direction_is_the_mean_of_the_resting_frames():
+    """Lifted shoulders jitter; the tracker's forward direction is their running mean while no
+    arm points, not the last frame's."""
+    tracker = IntentTracker(IntentParams())
+    points, confidence = keypoints()
+    r = keypoint_index("r_shoulder")
+    for time, skew in ((0.0, 0.04), (0.1, -0.04)):  # shoulders 4 cm forward, then back
+        jittered = points.copy()
+        jittered[r, 0] += skew
+        tracker.update(time, jittered, confidence, CUPS)
+    steady = tracker._steady_forward(Observation())
+    np.testing.assert_allclose(steady.forward, [-1.0, 0.0, 0.0], atol=1e-9)

@@ -8,6 +8,7 @@ import pytest
 from pydrake.systems.analysis import Simulator
 
 from hsr_handover.intent import IntentParams
+from hsr_handover.intent.tracker import ARM_MOVING
 from hsr_handover.perception.cross_check import DetectionSupport
 from hsr_handover.perception.object_detection import Detection, DetectionResult
 from hsr_handover.perception.skeleton import Skeleton
@@ -40,19 +41,22 @@ def _run(system, until: float, support=None, image_time=None):
 
 def test_recognises_after_the_dwell_from_its_own_frames():
     system = IntentEstimator(period=0.1, params=IntentParams(t_max=0.3))
-    early, _ = _run(system, 0.25)
+    unsure, _ = _run(system, 0.25)  # three frames: too few to tell a held arm from a sweep
+    assert unsure.candidate is None and unsure.frame.status == ARM_MOVING
+    early, _ = _run(system, 0.45)
     assert early.target is None and early.candidate == "blue"
-    intent, (pointing, gaze) = _run(system, 0.6)
+    intent, (pointing, gaze) = _run(system, 0.7)
     assert intent.target == "blue" and 0 < intent.confidence <= 1
-    # Frames are judged 2 ms after each capture (0.0, 0.1, ...); the dwell counts from 0.002 s.
-    assert intent.recognised_time == pytest.approx(0.302)
+    # Frames are judged 2 ms after each capture (0.0, 0.1, ...); the dwell counts from the
+    # fourth, at 0.302 s, when the arm is first known to hold still.
+    assert intent.recognised_time == pytest.approx(0.602)
     assert pointing is not None and gaze is not None
     assert pointing.direction[0] < 0 and gaze.direction[0] < 0  # toward the table, from x=1.75
 
 
 def test_the_capture_time_times_the_dwell_when_connected():
     system = IntentEstimator(period=0.1, params=IntentParams(t_max=0.0))
-    intent, _ = _run(system, 0.05, image_time=7.0)
+    intent, _ = _run(system, 0.35, image_time=7.0)
     assert intent.recognised_time == 7.0
 
 
