@@ -29,10 +29,10 @@ from hsr_handover.scenario import load_scenario
 SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "intent_reference.yaml"
 GRID = {
     "pointing_ray": ("shoulder_wrist", "elbow_wrist", "eye_wrist"),
-    "d_min": (0.15, 0.2, 0.25),
-    "gaze_tolerance_deg": (8.0, 12.0, 16.0),
-    "t_max": (0.5, 0.8),
-    "straight_arm_deg": (150.0, 160.0),
+    "d_min": (0.2, 0.3),
+    "gaze_tolerance_deg": (8.0, 12.0),
+    "t_max": (0.3, 0.5),
+    "steady_deg_s": (20.0, 30.0, 1000.0),
 }
 
 

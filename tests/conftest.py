@@ -29,7 +29,7 @@ def meshcat_commands(html: str | bytes) -> list[dict]:
 
 
 def bundled_scenarios() -> list[Path]:
-    return sorted(SCENARIOS.glob("*.yaml"))
+    return sorted(SCENARIOS.rglob("*.yaml"))
 
 
 @pytest.fixture(scope="session")

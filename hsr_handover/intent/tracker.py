@@ -7,12 +7,15 @@ of a gaze shift and the eyes the rest (Stiefelhagen and Zhu 2002: 69 %), so the 
 from the torso's forward direction is scaled by `head_gain` to give where the eyes look. Only
 the turn's horizontal part is used: the objects on a table lie side by side, and the face
 normal's pitch depends on each face's shape. Rays of the last `smoothing_s` seconds are
-averaged: the eq. 17 normal from three points a few cm apart swings 10-30 degrees a frame.
+averaged: the eq. 17 normal from three points a few cm apart swings 10-30 degrees a frame. The
+pointing ray counts only while the arm holds still (`steady_deg_s`): a gesture is read in its
+hold, not while the arm sweeps past other objects on its way.
 
-Each frame is judged (`judge`); `IntentTracker` adds the dwell. A frame that lacks the face
-neither starts nor completes a recognition (missing keypoints never make a guess), but it does
-not break a dwell that the arm keeps pointing through: OpenPose drops a face point in about a
-quarter of frames, and a request is not withdrawn by a blink.
+Each frame is judged (`judge`); `IntentTracker` adds the dwell. Missing keypoints never make a
+guess: a frame that lacks the face is judged with the face seen in the last `smoothing_s`
+(OpenPose drops a face point in about a quarter of frames, and a request is not withdrawn by a
+blink); with none seen in that window, the frame neither starts nor completes a recognition,
+nor breaks a dwell that the arm keeps pointing through.
 """
 
 from __future__ import annotations
