@@ -263,7 +263,8 @@ class IntentConfig:
     object, and the eyes' direction (eq. 17's face normal, its turn from the torso's forward
     direction scaled by `head_gain`) within `gaze_tolerance_deg` of the same object, both for
     `t_max`, over rays averaged across `smoothing_s`, while the pointing arm turns slower than
-    `steady_deg_s`; `face_tilt_deg` only pitches the drawn gaze ray. The meaning and the measured defaults: `hsr_handover.intent.IntentParams`.
+    `steady_deg_s`; `face_tilt_deg` only pitches the drawn gaze ray. The meaning and the
+    measured defaults: `hsr_handover.intent.IntentParams`.
 
     Ranges: straight_arm_deg in (90, 180] deg; d_min in (0, 2] m; gaze_tolerance_deg in (0, 90]
     deg; t_max in [0, 10] s; head_gain in [1, 3]; face_tilt_deg in [0, 90] deg; smoothing_s in
