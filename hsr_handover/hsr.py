@@ -19,8 +19,8 @@ from pydrake.multibody.tree import ModelInstanceIndex
 from pydrake.systems.framework import Context
 
 from hsr_handover.kinematics.hsr_arm import ARM_JOINT_NAMES
+from hsr_handover.model_files import MODELS_DIR
 
-MODELS_DIR = Path(__file__).resolve().parent / "models"
 PACKAGE_XML = MODELS_DIR / "package.xml"
 PACKAGE_NAME = "hsr_handover"
 HSR_URL = f"package://{PACKAGE_NAME}/hsrb/hsrb.sdf"
