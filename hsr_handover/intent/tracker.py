@@ -196,8 +196,8 @@ def pointing_rays(
 class Observation:
     """What a frame shows of the person: the pointing arm (None if no arm is straight), its
     elbow angle and ray, the face's ray (None without the face) and the torso's forward
-    direction (None without shoulders or hips); how fast (deg/s) the pointing ray turns, where
-    it is known (`RaySmoother`), infinite until enough frames show it."""
+    direction (None without shoulders or hips); how fast (deg/s) the pointing ray turns, as
+    `RaySmoother` measures it (infinite until enough frames show it; 0 for a lone frame)."""
 
     arm: str | None = None
     elbow_angle_deg: float = math.nan
@@ -346,8 +346,13 @@ class RaySmoother:
 
     def _sweep_deg_s(self) -> float:
         history = self._pointing
-        if len(history) < self.MIN_FRAMES:
-            return math.inf if self.window > 0 else 0.0
+        if self.window <= 0:
+            return 0.0  # no window, no rate: every frame is taken as held
+        span = history[-1][0] - history[0][0]
+        # Too early to tell a hold from a sweep, unless the frames are sparse (a slow camera
+        # fits fewer than MIN_FRAMES in the window): then two frames half a window apart do.
+        if len(history) < 2 or (len(history) < self.MIN_FRAMES and span < self.window / 2):
+            return math.inf
         half = len(history) // 2
         older, newer = history[:half], history[half:]
         elapsed = np.mean([t for t, _ in newer]) - np.mean([t for t, _ in older])

@@ -271,3 +271,12 @@ def test_the_torso_direction_is_the_mean_of_the_resting_frames():
         tracker.update(time, jittered, confidence, CUPS)
     steady = tracker._steady_forward(Observation())
     np.testing.assert_allclose(steady.forward, [-1.0, 0.0, 0.0], atol=1e-9)
+
+
+@pytest.mark.parametrize("rate_hz", [30.0, 5.0])
+def test_a_held_arm_is_recognised_at_a_slow_camera_rate_too(rate_hz):
+    """At 5 Hz the 0.4 s window holds two frames: the hold is judged from those."""
+    tracker = IntentTracker(IntentParams(t_max=0.5))
+    states = _frames(tracker, np.arange(0.0, 2.0, 1 / rate_hz))
+    assert states[-1].target == "green"
+    assert states[-1].recognised_time <= 0.5 + 0.4 + 1e-9

@@ -41,15 +41,15 @@ def _run(system, until: float, support=None, image_time=None):
 
 def test_recognises_after_the_dwell_from_its_own_frames():
     system = IntentEstimator(period=0.1, params=IntentParams(t_max=0.3))
-    unsure, _ = _run(system, 0.25)  # three frames: too few to tell a held arm from a sweep
+    unsure, _ = _run(system, 0.15)  # two frames: too few to tell a held arm from a sweep
     assert unsure.candidate is None and unsure.frame.status == ARM_MOVING
     early, _ = _run(system, 0.45)
     assert early.target is None and early.candidate == "blue"
     intent, (pointing, gaze) = _run(system, 0.7)
     assert intent.target == "blue" and 0 < intent.confidence <= 1
     # Frames are judged 2 ms after each capture (0.0, 0.1, ...); the dwell counts from the
-    # fourth, at 0.302 s, when the arm is first known to hold still.
-    assert intent.recognised_time == pytest.approx(0.602)
+    # third, at 0.202 s, the first to span half the 0.4 s window and so show the arm held.
+    assert intent.recognised_time == pytest.approx(0.502)
     assert pointing is not None and gaze is not None
     assert pointing.direction[0] < 0 and gaze.direction[0] < 0  # toward the table, from x=1.75
 
