@@ -15,6 +15,7 @@ import hashlib
 import json
 import os
 import tempfile
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -130,7 +131,7 @@ def load_or_build(
     path = folder / f"arm_effectivity_{cache_key(params)}.npz"
     try:
         return ArmEffectivity(GrowingCellStructures.load(path), params), True
-    except (OSError, ValueError, KeyError):
+    except (OSError, ValueError, KeyError, zipfile.BadZipFile):
         pass  # missing or unreadable: build it anew
     arm_map = ArmEffectivity.build(params)
     try:

@@ -88,3 +88,11 @@ def test_the_cache_key_follows_the_model_file(tmp_path, monkeypatch):
 def test_params_are_checked(field, value):
     with pytest.raises(ValueError, match=field):
         ArmMapParams(**{field: value})
+
+
+def test_a_truncated_cache_is_rebuilt(tmp_path):
+    load_or_build(SMALL, tmp_path)
+    (cached,) = tmp_path.glob("arm_effectivity_*.npz")
+    cached.write_bytes(cached.read_bytes()[:200])  # a zip cut short, as by a full disk
+    rebuilt, from_cache = load_or_build(SMALL, tmp_path)
+    assert not from_cache and rebuilt.nodes.shape == (120, 3)
