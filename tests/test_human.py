@@ -18,13 +18,9 @@ from hsr_handover.human.behavior import (
     target_posture,
 )
 from hsr_handover.human.body import PERSON_JOINTS, BodyDimensions
+from hsr_handover.intent.rays import angle_deg
 
 BODY = BodyDimensions.from_height(1.70, seated=True)
-
-
-def _angle_deg(a: np.ndarray, b: np.ndarray) -> float:
-    cosine = a @ b / (np.linalg.norm(a) * np.linalg.norm(b))
-    return float(np.degrees(np.arccos(np.clip(cosine, -1, 1))))
 
 
 def _targets_in_front(count: int, seed: int) -> np.ndarray:
@@ -40,7 +36,7 @@ def test_pointing_arm_puts_elbow_and_wrist_on_the_shoulder_to_target_ray(side):
         to_target = target - BODY.shoulder(side)
         points = arm_points(BODY, side, pointing_arm_angles(to_target))
         for joint in ("elbow", "wrist"):
-            assert _angle_deg(points[joint] - BODY.shoulder(side), to_target) < 1e-4
+            assert angle_deg(points[joint] - BODY.shoulder(side), to_target) < 1e-4
 
 
 def test_reaching_arm_puts_the_hand_on_reachable_targets():
@@ -53,7 +49,7 @@ def test_reaching_arm_puts_the_hand_on_reachable_targets():
             assert np.linalg.norm(hand - target) < 1e-3
             reached += 1
         else:  # out of reach: the arm points straight at it instead
-            assert _angle_deg(hand - BODY.shoulder("right"), to_target) < 1e-4
+            assert angle_deg(hand - BODY.shoulder("right"), to_target) < 1e-4
     assert reached > 50  # the sample really exercised the bent-elbow branch
 
 
@@ -63,7 +59,7 @@ def test_head_aims_the_line_of_sight_from_the_eyes_at_the_target():
     for target in _targets_in_front(30, seed=3):
         rotation = head_rotation(*aim_head(BODY, target))
         eye_position = BODY.neck_pivot() + rotation @ eyes
-        assert _angle_deg(rotation @ [1.0, 0, 0], target - eye_position) < 0.05
+        assert angle_deg(rotation @ [1.0, 0, 0], target - eye_position) < 0.05
 
 
 def test_pointing_posture_aims_arm_and_head_and_leaves_the_other_arm_at_rest():
@@ -74,7 +70,7 @@ def test_pointing_posture_aims_arm_and_head_and_leaves_the_other_arm_at_rest():
     np.testing.assert_allclose(posture[left], rest[left])
     right = [PERSON_JOINTS.index(n) for n in PERSON_JOINTS if n.startswith("r_")]
     wrist = arm_points(BODY, "right", posture[right])["wrist"]
-    assert _angle_deg(wrist - BODY.shoulder("right"), target - BODY.shoulder("right")) < 1e-4
+    assert angle_deg(wrist - BODY.shoulder("right"), target - BODY.shoulder("right")) < 1e-4
     assert not np.allclose(posture[:2], rest[:2])
 
 

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import copy
-import math
 
 import numpy as np
 import pytest
@@ -18,15 +17,12 @@ from hsr_handover.human.behavior import (
 )
 from hsr_handover.human.body import ARM_JOINT_SUFFIXES, PERSON_JOINTS, BodyDimensions
 from hsr_handover.human.imprecision import perturb_direction
+from hsr_handover.intent.rays import angle_deg
 from hsr_handover.scenario import load_scenario
 from hsr_handover.station.world import person_actions
 from tests.conftest import SCENARIOS
 
 BODY = BodyDimensions.from_height(1.70, seated=True)
-
-
-def _angle_deg(a: np.ndarray, b: np.ndarray) -> float:
-    return math.degrees(math.acos(np.clip(a @ b / np.linalg.norm(a) / np.linalg.norm(b), -1, 1)))
 
 
 def _pointing_and_looking(seed: int, scenario=None):
@@ -51,7 +47,7 @@ def test_pointing_errors_have_the_literature_mean_and_head_turns_fall_short():
         actions, exact = _pointing_and_looking(seed)
         point, true = actions[-1], exact[-1]
         shoulder = BODY.shoulder(point.arm)
-        errors.append(_angle_deg(point.arm_point - shoulder, true.point - shoulder))
+        errors.append(angle_deg(point.arm_point - shoulder, true.point - shoulder))
         fractions.append(point.head_fraction)
     assert np.mean(errors) == pytest.approx(7.3, abs=0.6)  # Breuer et al. 2010
     assert np.mean(fractions) == pytest.approx(0.689, abs=0.02)  # Stiefelhagen and Zhu 2002
@@ -81,7 +77,7 @@ def test_the_eyes_stay_on_the_target_while_the_arm_misses_it():
     actions, exact = _pointing_and_looking(3)
     point = actions[-1]
     np.testing.assert_allclose(point.point, exact[-1].point)  # looked at: the object itself
-    assert _angle_deg(point.arm_point - BODY.shoulder(point.arm), point.point) > 0.1
+    assert angle_deg(point.arm_point - BODY.shoulder(point.arm), point.point) > 0.1
     posture = target_posture(BODY, point)
     neck = [PERSON_JOINTS.index("neck_yaw"), PERSON_JOINTS.index("neck_pitch")]
     rest = rest_posture(BODY)[neck]
@@ -96,7 +92,7 @@ def test_perturbing_keeps_length_and_turns_by_the_error():
     direction = np.array([0.5, -0.3, -0.4])
     turned = perturb_direction(direction, np.radians([3.0, 4.0]))
     assert np.linalg.norm(turned) == pytest.approx(np.linalg.norm(direction))
-    assert 4.0 <= _angle_deg(turned, direction) <= 7.0
+    assert 4.0 <= angle_deg(turned, direction) <= 7.0
 
 
 def test_gesturing_never_straightens_the_elbow():

@@ -10,6 +10,7 @@ from pydrake.systems.analysis import Simulator
 
 from hsr_handover import interface
 from hsr_handover.hsr import COMMANDED_JOINTS, PALM_FRAME
+from hsr_handover.intent.rays import angle_deg
 from hsr_handover.robot import ready_command
 from hsr_handover.scenario import ImprecisionConfig, load_scenario, object_center
 from hsr_handover.simulation import build_simulation
@@ -163,11 +164,6 @@ def pointing_run():
     return station, simulator.get_context(), palm_start
 
 
-def _angle_deg(a: np.ndarray, b: np.ndarray) -> float:
-    cosine = a @ b / np.linalg.norm(a) / np.linalg.norm(b)
-    return float(np.degrees(np.arccos(np.clip(cosine, -1.0, 1.0))))
-
-
 def test_pointing_wrist_lies_on_the_shoulder_to_object_ray(pointing_run):
     station, context, _ = pointing_run
     action = station.scenario.person.behavior[-1]
@@ -175,12 +171,12 @@ def test_pointing_wrist_lies_on_the_shoulder_to_object_ray(pointing_run):
     center = object_center(station.scenario, target)
     shoulder = _frame_position(station, context, "coco_r_shoulder")
     wrist = _frame_position(station, context, "coco_r_wrist")
-    assert _angle_deg(wrist - shoulder, center - shoulder) < 5.0
+    assert angle_deg(wrist - shoulder, center - shoulder) < 5.0
     # And the other objects are clearly not the one pointed at.
     for other in station.scenario.objects:
         if other.name != target.name:
             assert (
-                _angle_deg(wrist - shoulder, object_center(station.scenario, other) - shoulder) > 8
+                angle_deg(wrist - shoulder, object_center(station.scenario, other) - shoulder) > 8
             )
 
 
@@ -195,7 +191,7 @@ def test_pointing_person_looks_at_the_object(pointing_run):
     ) / 2
     target = next(o for o in station.scenario.objects if o.name == "red_cup")
     gaze = X_WH.rotation().matrix()[:, 0]
-    assert _angle_deg(gaze, object_center(station.scenario, target) - eyes) < 5.0
+    assert angle_deg(gaze, object_center(station.scenario, target) - eyes) < 5.0
 
 
 def test_robot_holds_posture_and_objects_rest(pointing_run):

@@ -28,14 +28,19 @@ class Ray:
         return cls(np.asarray(start, dtype=float), along / length)
 
 
+def angle_deg(a: np.ndarray, b: np.ndarray) -> float:
+    """The angle (degrees) between two vectors; NaN when either has no length."""
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    norms = float(np.linalg.norm(a) * np.linalg.norm(b))
+    if not norms > _EPS:
+        return math.nan
+    return math.degrees(math.acos(float(np.clip(a @ b / norms, -1.0, 1.0))))
+
+
 def elbow_angle_deg(shoulder: np.ndarray, elbow: np.ndarray, wrist: np.ndarray) -> float:
     """Eq. 16: the angle at the elbow u0 between the shoulder u1 and the wrist u2 (degrees;
     180 for a straight arm). NaN when a segment has no length."""
-    upper, lower = np.asarray(shoulder) - elbow, np.asarray(wrist) - elbow
-    norms = float(np.linalg.norm(upper) * np.linalg.norm(lower))
-    if not norms > _EPS:
-        return math.nan
-    return math.degrees(math.acos(float(np.clip(upper @ lower / norms, -1.0, 1.0))))
+    return angle_deg(np.asarray(shoulder) - elbow, np.asarray(wrist) - elbow)
 
 
 def face_normal(nose: np.ndarray, r_eye: np.ndarray, l_eye: np.ndarray) -> np.ndarray | None:

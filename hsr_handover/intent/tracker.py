@@ -26,7 +26,14 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from hsr_handover.intent.rays import Ray, elbow_angle_deg, face_normal, ray_distances, tilt_down
+from hsr_handover.intent.rays import (
+    Ray,
+    angle_deg,
+    elbow_angle_deg,
+    face_normal,
+    ray_distances,
+    tilt_down,
+)
 from hsr_handover.literature import STIEFELHAGEN_HEAD_FRACTION
 from hsr_handover.perception.coco18 import keypoint_index
 
@@ -308,10 +315,6 @@ def _mean_ray(history: Sequence[tuple[float, Ray]]) -> Ray:
     return Ray(origin, direction / np.linalg.norm(direction))
 
 
-def _angle_deg(a: np.ndarray, b: np.ndarray) -> float:
-    return math.degrees(math.acos(float(np.clip(a @ b, -1.0, 1.0))))
-
-
 class RaySmoother:
     """The mean of the rays seen over the last `window` seconds, and how fast the pointing ray
     turns: the angle between the mean directions of the window's older and newer halves over
@@ -356,7 +359,7 @@ class RaySmoother:
         half = len(history) // 2
         older, newer = history[:half], history[half:]
         elapsed = np.mean([t for t, _ in newer]) - np.mean([t for t, _ in older])
-        turn = _angle_deg(_mean_ray(older).direction, _mean_ray(newer).direction)
+        turn = angle_deg(_mean_ray(older).direction, _mean_ray(newer).direction)
         return turn / max(float(elapsed), 1e-9)
 
 
