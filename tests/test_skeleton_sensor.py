@@ -29,8 +29,8 @@ from hsr_handover.perception.skeleton import (
     SkeletonNoise,
     detect_keypoints,
     keypoint_index,
+    lift_detection,
     lift_keypoints,
-    simulate_keypoints,
 )
 from hsr_handover.scenario import load_scenario, object_center
 from hsr_handover.simulation import build_simulation
@@ -69,7 +69,9 @@ def _synthetic_depth(offset: float = SURFACE_OFFSET) -> np.ndarray:
 
 def _simulate(depth=None, noise=EXACT, seed=0, X=X_WC) -> Skeleton:
     depth = _synthetic_depth() if depth is None else depth
-    return simulate_keypoints(KEYPOINTS, CAMERA, X, depth, noise, np.random.default_rng(seed))
+    # The simulated sensor, then the robot's lifting of what it reported.
+    detection = detect_keypoints(KEYPOINTS, CAMERA, X, depth, noise, np.random.default_rng(seed))
+    return lift_detection(detection, depth, CAMERA, X)
 
 
 def test_exact_detection_is_the_projection_and_lifts_the_surface():

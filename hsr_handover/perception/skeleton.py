@@ -366,17 +366,3 @@ def lift_detection(
     if detection.status != STATUS_OK:
         return Skeleton.missing(detection.status)
     return lift_keypoints(detection.pixels, detection.confidence, depth, camera, X_WC)
-
-
-def simulate_keypoints(
-    keypoints_W: np.ndarray,
-    camera: PinholeCamera,
-    X_WC: np.ndarray,
-    depth: np.ndarray,
-    noise: SkeletonNoise,
-    rng: np.random.Generator,
-) -> Skeleton:
-    """The simulated sensor and the robot's lifting in one call (paper 3.2):
-    `detect_keypoints`, then `lift_detection`."""
-    detection = detect_keypoints(keypoints_W, camera, X_WC, depth, noise, rng)
-    return lift_detection(detection, depth, camera, X_WC)
