@@ -74,8 +74,17 @@ class SkeletonSensor(LeafSystem):
             "camera_pose", AbstractValue.Make(RigidTransform())
         )
         self._captured = self.DeclareDiscreteState(np.full(3 * NUM_KEYPOINTS + 1, np.nan))
+        # A detection depends on the held capture and the images, not on the body's live pose:
+        # without these tickets Drake recomputes it (and everything lifted from it) every step.
         self.DeclareAbstractOutputPort(
-            "keypoints", lambda: AbstractValue.Make(Detection.missing(NO_CAPTURE)), self._detect
+            "keypoints",
+            lambda: AbstractValue.Make(Detection.missing(NO_CAPTURE)),
+            self._detect,
+            prerequisites_of_calc={
+                self.discrete_state_ticket(self._captured),
+                self._depth.ticket(),
+                self._pose.ticket(),
+            },
         )
         self.DeclarePeriodicUnrestrictedUpdateEvent(period, 0.0, self._capture)
         self.DeclareInitializationUnrestrictedUpdateEvent(self._capture)
