@@ -231,6 +231,7 @@ def _experiment(args: argparse.Namespace) -> int:
 
 def main(argv: Sequence[str] | None = None) -> int:
     args = _parser().parse_args(argv)
+    from hsr_handover.experiments.trials import ClusterUnavailable
     from hsr_handover.scenario import ScenarioError
 
     handlers = {
@@ -238,7 +239,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     }  # fmt: skip
     try:
         return handlers[args.command](args)
-    except (ScenarioError, UsageError) as error:
+    except (ScenarioError, UsageError, ClusterUnavailable) as error:
         if args.debug:
             raise
         print(f"error: {error}", file=sys.stderr)

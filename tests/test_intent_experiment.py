@@ -6,6 +6,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import json
+import sys
 
 import pytest
 
@@ -14,7 +15,7 @@ from hsr_handover.experiments.intent import IntentExperiment, run_intent_trial, 
 from hsr_handover.experiments.intent_percepts import replay_intent
 from hsr_handover.experiments.intent_report import plot, summary_lines, write_csv
 from hsr_handover.experiments.intent_trials import DISTRACTORS, make_trials, object_positions
-from hsr_handover.experiments.trials import TrialOutcome
+from hsr_handover.experiments.trials import RAY_MISSING, TrialOutcome
 from hsr_handover.scenario import ImprecisionConfig, load_scenario
 from tests.conftest import SCENARIOS
 
@@ -137,3 +138,25 @@ def test_one_trial_end_to_end_the_robot_names_the_cup_it_was_asked_for(base):
     assert 0.5 <= result["latency_s"] <= 3.0
     offline = replay_intent(result["percepts"], exact.intent.params())
     assert offline.recognised_time == result["recognised_time_s"]
+
+
+def test_a_failed_distractor_trial_does_not_lower_the_false_trigger_rate(base):
+    trials = make_trials(base, 3, 2, seed=1)
+    recognised = ["red_cup", "green_cup", "blue_cup", "red_cup", None]
+    outcomes = []
+    for trial, name in zip(trials, recognised, strict=True):
+        outcome = _outcome(trial.index, name, ok=name is not None)
+        if outcome.ok:
+            outcome.result.update(kind=trial.kind, target=trial.target, arm=trial.arm)
+        outcomes.append(outcome)
+    summary = summarise(IntentExperiment(trials, outcomes, base, 1, 12.0))
+    assert summary["false_trigger_rate"] == 1.0  # one distractor ran, and it triggered
+    assert summary["failed_trials"] == 1
+
+
+def test_ray_address_without_ray_is_a_one_line_usage_error(capsys, monkeypatch):
+    monkeypatch.setitem(sys.modules, "ray", None)  # `import ray` now raises ImportError
+    scenario = str(SCENARIOS / "intent_reference.yaml")
+    code = main(["experiment", "intent", scenario, "--ray-address", "127.0.0.1:6379"])
+    error = capsys.readouterr().err.strip()
+    assert code == 2 and error == f"error: {RAY_MISSING}"

@@ -104,10 +104,13 @@ def _rate(hits: int, count: int) -> float:
 def summarise(experiment: IntentExperiment) -> dict:
     """The JSON summary: success overall, by position and by object beside the paper's figures,
     a confusion matrix, the false-trigger rate, latency from pointing onset, failures, and the
-    person model and settings the trials ran with."""
+    person model and settings the trials ran with. A failed request counts as not recognised; a
+    failed distractor trial is left out of the false-trigger rate, which it would otherwise
+    lower (both are listed under `failures`)."""
     rows = experiment.rows()
     requests = [row for row in rows if row["kind"] == "request"]
     distractors = [row for row in rows if row["kind"] != "request"]
+    distractors_run = [row for row in distractors if not row["error"]]
     sides = object_positions(experiment.base)
     names = [obj.name for obj in experiment.base.objects]
     success = [row["recognised"] == row["target"] for row in requests]
@@ -135,7 +138,7 @@ def summarise(experiment: IntentExperiment) -> dict:
         "by_object": by_object,
         "confusion": confusion,
         "false_trigger_rate": _rate(
-            sum(bool(r["recognised"]) for r in distractors), len(distractors)
+            sum(bool(r["recognised"]) for r in distractors_run), len(distractors_run)
         ),  # fmt: skip
         "latency_s": {
             "median": float(np.median(latencies)) if latencies else math.nan,

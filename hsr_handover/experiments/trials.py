@@ -27,6 +27,12 @@ Progress = Callable[[int, int, int], None]
 """Called as `progress(done, total, failed)` once per finished trial."""
 
 RAY_MISSING = "--ray-address needs Ray: pip install 'hsr_handover[cluster]'"
+
+
+class ClusterUnavailable(RuntimeError):
+    """The Ray cluster asked for cannot be used: Ray is not installed, or no cluster answers."""
+
+
 CRASHED = "BrokenProcessPool: a worker process died (crash, os._exit, kill) while this trial ran"
 NOT_RUN = "BrokenProcessPool: not run, worker processes died in two pools in a row"
 _MAX_REASON = 200
@@ -250,7 +256,7 @@ def _import_ray() -> Any:
     try:
         import ray
     except ImportError as exc:
-        raise RuntimeError(RAY_MISSING) from exc
+        raise ClusterUnavailable(RAY_MISSING) from exc
     return ray
 
 
@@ -260,7 +266,12 @@ def _run_on_ray(
     ray = _import_ray()
     connected_here = not ray.is_initialized()
     if connected_here:
-        ray.init(address=address)
+        try:
+            ray.init(address=address)
+        except ConnectionError as exc:
+            reason = (str(exc).strip() or type(exc).__name__).splitlines()[0]
+            message = f"--ray-address: no Ray cluster at {address}: {reason}"
+            raise ClusterUnavailable(message) from exc
     try:
         _stream_ray(ray, function, specs, tally)
     finally:
