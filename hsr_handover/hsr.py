@@ -81,7 +81,7 @@ def _resolve_positions(
         if key == GRIPPER_KEY:
             if GRIPPER_JOINT in positions:
                 raise ValueError(f"give either '{GRIPPER_KEY}' or '{GRIPPER_JOINT}', not both")
-            resolved[GRIPPER_JOINT] = 0.5 * float(value)
+            resolved[GRIPPER_JOINT] = FINGER_PER_OPENING * float(value)
         elif key in resolved:
             resolved[key] = float(value)
         else:

@@ -19,7 +19,12 @@ from hsr_handover.human.aiming import (
     rot_y,
     rot_z,
 )
-from hsr_handover.human.body import ARM_JOINT_SUFFIXES, PERSON_JOINTS, BodyDimensions
+from hsr_handover.human.body import (
+    ARM_JOINT_SUFFIXES,
+    PERSON_JOINTS,
+    BodyDimensions,
+    side_sign,
+)
 
 ACTIONS = ("rest", "look_at", "point_at", "reach_to", "touch", "gesture")
 REACHES = ("reach_to", "touch")  # the hand goes to a point; "touch" without looking at it
@@ -140,7 +145,7 @@ def _gesture_beats(body: BodyDimensions, action: Action, end: float):
     """Talking with the hands: the forearm swings up and out and back every GESTURE_BEAT_S,
     the elbow bent (never a straight, pointing arm), until `end` (at most a minute of beats)."""
     prefix = "r_" if action.arm == "right" else "l_"
-    sign = 1.0 if action.arm == "left" else -1.0
+    sign = side_sign(action.arm)
     joints = [_INDEX[prefix + s] for s in ARM_JOINT_SUFFIXES]
     beats = []
     for beat in range(int(min(end - action.start, 60.0) / GESTURE_BEAT_S) + 1):
