@@ -61,15 +61,21 @@ def _outcome(index, recognised, latency=1.0, ok=True):
     return TrialOutcome(index, ok, result, "" if ok else "ValueError: boom", 1.0)
 
 
-def test_the_summary_scores_success_by_position_false_triggers_and_failures(base, tmp_path):
-    trials = make_trials(base, 6, 2, seed=1)
-    recognised = ["red_cup", "green_cup", "red_cup", "red_cup", "", None, "", "blue_cup"]
+def _outcomes(trials, recognised: list[str | None]) -> list[TrialOutcome]:
+    """One outcome per trial: the name recognised ("" for none), or None for a failed trial."""
     outcomes = []
     for trial, name in zip(trials, recognised, strict=True):
         outcome = _outcome(trial.index, name, ok=name is not None)
         if outcome.ok:
             outcome.result.update(kind=trial.kind, target=trial.target, arm=trial.arm)
         outcomes.append(outcome)
+    return outcomes
+
+
+def test_the_summary_scores_success_by_position_false_triggers_and_failures(base, tmp_path):
+    trials = make_trials(base, 6, 2, seed=1)
+    recognised = ["red_cup", "green_cup", "red_cup", "red_cup", "", None, "", "blue_cup"]
+    outcomes = _outcomes(trials, recognised)
     summary = summarise(IntentExperiment(trials, outcomes, base, 1, 12.0))
     assert summary["trials"] == 6 and summary["distractor_trials"] == 2
     assert summary["by_position"] == {"left": 1.0, "centre": 0.5, "right": 0.0}
@@ -143,12 +149,7 @@ def test_one_trial_end_to_end_the_robot_names_the_cup_it_was_asked_for(base):
 def test_a_failed_distractor_trial_does_not_lower_the_false_trigger_rate(base):
     trials = make_trials(base, 3, 2, seed=1)
     recognised = ["red_cup", "green_cup", "blue_cup", "red_cup", None]
-    outcomes = []
-    for trial, name in zip(trials, recognised, strict=True):
-        outcome = _outcome(trial.index, name, ok=name is not None)
-        if outcome.ok:
-            outcome.result.update(kind=trial.kind, target=trial.target, arm=trial.arm)
-        outcomes.append(outcome)
+    outcomes = _outcomes(trials, recognised)
     summary = summarise(IntentExperiment(trials, outcomes, base, 1, 12.0))
     assert summary["false_trigger_rate"] == 1.0  # one distractor ran, and it triggered
     assert summary["failed_trials"] == 1
