@@ -31,6 +31,12 @@ REACHES = ("reach_to", "touch")  # the hand goes to a point; "touch" without loo
 GESTURE_BEAT_S = 0.6  # s between the arm's turns while gesturing (one minimum move)
 PEAK_JOINT_SPEED = 1.5  # rad/s: brisk but human
 MIN_MOVE_TIME = 0.6  # s
+# A person lifts a hand from rest before stretching the arm out: the arm first swings to its
+# goal's shoulder angles with the elbow bent this much (rad), and the elbow opens once the
+# swing is LIFT_SHARE done. Swinging out a straight arm from a forearm resting at table height
+# sweeps the hand into the table's edge when the person sits or stands close to it.
+LIFT_ELBOW = -0.8
+LIFT_SHARE = 0.5
 _MIN_JERK_PEAK = 1.875  # peak of d/dtau of the minimum-jerk profile
 
 _INDEX = {name: i for i, name in enumerate(PERSON_JOINTS)}
@@ -134,11 +140,33 @@ def posture_changes(
         end = next_start if action.end is None else min(action.end, next_start)
         if action.kind == "gesture":
             changes += _gesture_beats(body, action, end)
+        elif action.kind in ("point_at", *REACHES):
+            changes += _lift_then_stretch(action, end, changes[-1][1], target_posture(body, action))
         else:
             changes.append((action.start, target_posture(body, action)))
         if action.end is not None and action.end < next_start:
             changes.append((action.end, rest_posture(body)))
     return changes
+
+
+def move_duration(origin: np.ndarray, goal: np.ndarray) -> float:
+    """How long (s) a minimum-jerk move from `origin` to `goal` takes at PEAK_JOINT_SPEED."""
+    span = float(np.max(np.abs(np.asarray(goal) - np.asarray(origin))))
+    return max(MIN_MOVE_TIME, _MIN_JERK_PEAK * span / PEAK_JOINT_SPEED)
+
+
+def _lift_then_stretch(action: Action, end: float, before: np.ndarray, goal: np.ndarray):
+    """A pointing or reaching arm's move in two overlapping parts: swing the arm to its goal's
+    shoulder angles with the elbow bent (LIFT_ELBOW), which raises the hand, then open the
+    elbow (by `end` at the latest). `before` is the posture the move starts from (or is
+    heading to)."""
+    prefix = "r_" if action.arm == "right" else "l_"
+    elbow = _INDEX[prefix + "elbow"]
+    lifted = goal.copy()
+    lifted[elbow] = min(goal[elbow], LIFT_ELBOW)
+    lifted[_INDEX[prefix + "wrist"]] = 0.0
+    stretch = min(action.start + LIFT_SHARE * move_duration(before, lifted), end)
+    return [(action.start, lifted), (stretch, goal)]
 
 
 def _gesture_beats(body: BodyDimensions, action: Action, end: float):
@@ -157,42 +185,73 @@ def _gesture_beats(body: BodyDimensions, action: Action, end: float):
     return beats
 
 
+def _profiles(tau: np.ndarray) -> tuple[np.ndarray, ...]:
+    """The quintic that carries a move from rest at 0 to rest at 1 (s, ds/dtau) and the one
+    that carries an initial velocity away to nothing (h, dh/dtau): h(0) = 0, h'(0) = 1, and
+    h, h', h'' vanish at 1 (h'' also at 0), so a move entered mid-motion stays smooth."""
+    s = tau**3 * (10 - 15 * tau + 6 * tau**2)
+    ds = 30 * tau**2 * (1 - tau) ** 2
+    h = tau - 6 * tau**3 + 8 * tau**4 - 3 * tau**5
+    dh = 1 - 18 * tau**2 + 32 * tau**3 - 15 * tau**4
+    return s, ds, h, dh
+
+
+_TAU = np.linspace(0.0, 1.0, 101)
+_TAU_PROFILES = _profiles(_TAU)
+
+
 @dataclasses.dataclass(frozen=True)
 class _Move:
     start: float
     duration: float
     origin: np.ndarray
     goal: np.ndarray
+    velocity: np.ndarray  # at the start: a change mid-move carries the body's motion on
+
+    @classmethod
+    def starting(cls, start: float, origin, velocity, goal) -> _Move:
+        """The move from `origin` at `velocity` to rest at `goal`, as slow as it must be for
+        no joint to pass PEAK_JOINT_SPEED (at least the move from rest would take)."""
+        origin, velocity, goal = (np.asarray(v, dtype=float) for v in (origin, velocity, goal))
+        duration = move_duration(origin, goal)
+        _, ds, _, dh = _TAU_PROFILES
+        while True:
+            speeds = np.abs(np.outer(ds / duration, goal - origin) + np.outer(dh, velocity))
+            if speeds.max() <= PEAK_JOINT_SPEED:
+                return cls(start, duration, origin, goal, velocity)
+            duration *= 1.05
+
+    def at(self, time: float) -> tuple[np.ndarray, np.ndarray]:
+        if self.duration <= 0.0 or time >= self.start + self.duration:
+            return self.goal.copy(), np.zeros_like(self.goal)
+        tau = max(time - self.start, 0.0) / self.duration
+        s, ds, h, dh = _profiles(tau)
+        delta = self.goal - self.origin
+        position = self.origin + s * delta + self.duration * h * self.velocity
+        return position, ds / self.duration * delta + dh * self.velocity
 
 
 class PostureTimeline:
     """Joint positions and velocities over time for a list of (time, target) changes.
 
-    A move starts at each change from wherever the body is then (mid-move included) and lasts
-    `max(MIN_MOVE_TIME, 1.875 |dq|_max / PEAK_JOINT_SPEED)`, so no joint exceeds the peak speed.
+    A move starts at each change from wherever the body is then, moving as it is (mid-move
+    included), and ends at rest at its target; it lasts at least
+    `max(MIN_MOVE_TIME, 1.875 |dq|_max / PEAK_JOINT_SPEED)`, and longer where the motion it
+    takes over needs it, so that no joint exceeds the peak speed.
     """
 
     def __init__(self, changes: Sequence[tuple[float, np.ndarray]]):
         if not changes:
             raise ValueError("changes: expected at least the starting posture")
         first_time, first = changes[0]
-        self._moves = [_Move(first_time, 0.0, np.asarray(first), np.asarray(first))]
+        self._moves = [_Move.starting(first_time, first, np.zeros(len(first)), first)]
         self._starts = np.array([first_time])
         for time, goal in changes[1:]:
-            origin, _ = self.evaluate(time)
-            span = float(np.max(np.abs(np.asarray(goal) - origin)))
-            duration = max(MIN_MOVE_TIME, _MIN_JERK_PEAK * span / PEAK_JOINT_SPEED)
-            self._moves.append(_Move(time, duration, origin, np.asarray(goal, dtype=float)))
+            origin, velocity = self.evaluate(time)
+            self._moves.append(_Move.starting(time, origin, velocity, goal))
             self._starts = np.append(self._starts, time)
 
     def evaluate(self, time: float) -> tuple[np.ndarray, np.ndarray]:
         """Positions and velocities at `time`."""
         index = max(int(np.searchsorted(self._starts, time, side="right")) - 1, 0)
-        move = self._moves[index]
-        if move.duration <= 0.0 or time >= move.start + move.duration:
-            return move.goal.copy(), np.zeros_like(move.goal)
-        tau = max(time - move.start, 0.0) / move.duration
-        s = tau**3 * (10 - 15 * tau + 6 * tau**2)
-        ds = 30 * tau**2 * (1 - tau) ** 2 / move.duration
-        delta = move.goal - move.origin
-        return move.origin + s * delta, ds * delta
+        return self._moves[index].at(time)
