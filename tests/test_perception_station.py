@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import subprocess
 import sys
 
@@ -93,3 +94,16 @@ def test_attention_experiment_meets_the_papers_figures(tmp_path):
     commands = meshcat_commands(outputs["html"].read_bytes())
     (animation,) = [c for c in commands if c.get("type") == "set_animation"]
     assert any(e["path"].startswith("/perception/gng/") for e in animation["animations"])
+
+
+def test_the_table_is_fitted_to_the_point_clouds(watching_the_face):
+    """The planning scene's table (issue 9): top height within 1 cm, extent within 3 cm."""
+    station, percepts = watching_the_face
+    report, table = percepts["table"], station.scenario.table
+    assert report.status == "ok" and report.frames >= 10
+    estimate = report.estimate
+    assert abs(estimate.height - table.height) < 0.01
+    true_size = np.asarray(table.size)
+    flipped = abs(math.cos(estimate.yaw - table.yaw)) < 0.5  # its long side along the table's y
+    assert np.all(np.abs(estimate.size - (true_size[::-1] if flipped else true_size)) < 0.03)
+    assert np.linalg.norm(estimate.center - table.center) < 0.03

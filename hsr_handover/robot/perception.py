@@ -4,6 +4,7 @@
 - camera_color_image + depth -> ObjectDetector -> DetectionCrossCheck (against the map)
 - skeleton_keypoints + depth -> SkeletonLifter -> AttentionFocus -> the map's `attention`
 - skeleton, detections and their cross-check -> IntentEstimator (eqs. 16-17)
+- cloud -> TableEstimator (the table's top, for the planning scene)
 """
 
 from __future__ import annotations
@@ -26,11 +27,15 @@ from hsr_handover.systems.intent_estimator import IntentEstimator
 from hsr_handover.systems.object_detector import ObjectDetector
 from hsr_handover.systems.point_cloud_gng import PointCloudGng
 from hsr_handover.systems.skeleton_lifter import SkeletonLifter
+from hsr_handover.systems.table_estimator import TableEstimator
 from hsr_handover.topology.growing_neural_gas import GrowingNeuralGas
 
 PERCEPTION_OUTPUTS = ("gng_graph", "gng_stats", "gng_frame_report", "point_cloud",
                       "detections", "detection_support", "skeleton", "attention", "intent",
-                      "intent_rays")  # fmt: skip
+                      "intent_rays", "table")  # fmt: skip
+TABLE_FRAME_STRIDE = 6
+"""The table is fitted to every sixth frame (5 Hz at 30 Hz): it does not move, and a frame's
+fit costs about 5 ms."""
 
 
 def focus_schedule(scenario: Scenario) -> list[FocusChange]:
@@ -135,6 +140,10 @@ def add_perception(builder: DiagramBuilder, scenario: Scenario) -> None:
     cross_check = builder.AddNamedSystem("detection_cross_check", DetectionCrossCheck())
     builder.Connect(detector.GetOutputPort("detections"), cross_check.GetInputPort("detections"))
     builder.Connect(gng.GetOutputPort("graph"), cross_check.GetInputPort("graph"))
+    table = builder.AddNamedSystem(
+        "table_estimator", TableEstimator(workspace, TABLE_FRAME_STRIDE / scenario.camera.rate_hz)
+    )
+    builder.Connect(to_cloud.point_cloud_output_port(), table.GetInputPort("point_cloud"))
     intent = _add_intent(builder, inputs, scenario)
     for name, port in (
         ("skeleton", lifter.GetOutputPort("skeleton")),
@@ -154,6 +163,7 @@ def add_perception(builder: DiagramBuilder, scenario: Scenario) -> None:
         "attention": focus.GetOutputPort("attention"),
         "intent": intent.GetOutputPort("intent"),
         "intent_rays": intent.GetOutputPort("rays"),
+        "table": table.GetOutputPort("table"),
     }
     for name, port in exports.items():
         builder.ExportOutput(port, name)
