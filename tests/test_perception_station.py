@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 from pydrake.systems.analysis import Simulator
 
+from hsr_handover.perception.coco18 import COCO18_KEYPOINTS
 from hsr_handover.robot import PERCEPTION_OUTPUTS
 from hsr_handover.scenario import load_scenario, object_center
 from hsr_handover.simulation import build_simulation
@@ -23,7 +24,16 @@ def _perceive(scenario, until: float):
     simulator.AdvanceTo(until)
     robot, context = simulation.robot.diagram, simulation.robot_context(simulator.get_context())
     percepts = {name: robot.GetOutputPort(name).Eval(context) for name in PERCEPTION_OUTPUTS}
-    return simulation.station, percepts
+    plant = simulation.station.plant
+    plant_context = plant.GetMyContextFromRoot(simulator.get_context())
+    true_keypoints = {
+        name: plant.GetFrameByName(f"coco_{name}").CalcPoseInWorld(plant_context).translation()
+        for name in COCO18_KEYPOINTS
+    }
+    station_context = simulation.station_context(simulator.get_context())
+    camera = simulation.station.diagram.GetOutputPort("camera_pose").Eval(station_context)
+    true_keypoints["camera"] = camera.translation()
+    return simulation.station, percepts, true_keypoints
 
 
 @pytest.fixture(scope="module")
@@ -33,7 +43,7 @@ def watching_the_face():
 
 
 def test_the_map_the_detections_and_the_skeleton_come_from_the_camera(watching_the_face):
-    station, percepts = watching_the_face
+    station, percepts, _ = watching_the_face
     report, graph = percepts["gng_frame_report"], percepts["gng_graph"]
     assert report.status == "ok" and report.n_points > 5000
     assert 50 <= len(graph.nodes) <= station.scenario.perception.gng.max_nodes
@@ -48,7 +58,7 @@ def test_the_map_the_detections_and_the_skeleton_come_from_the_camera(watching_t
 
 
 def test_attention_is_on_the_perceived_face(watching_the_face):
-    station, percepts = watching_the_face
+    station, percepts, _ = watching_the_face
     (region,) = percepts["attention"]
     nose = station.plant.GetFrameByName("coco_nose").CalcPoseInWorld(
         station.plant.CreateDefaultContext()
@@ -64,7 +74,7 @@ def test_camera_facing_away_degrades_to_empty_percepts_that_say_why(write_scenar
         data["robot"]["base_pose"] = [0.0, 0.0, 3.14159]
         data["perception"] = {"enabled": True, "attention": [{"start": 0.0, "focus": "face"}]}
 
-    _, percepts = _perceive(load_scenario(write_scenario(look_away)), 0.3)
+    _, percepts, _ = _perceive(load_scenario(write_scenario(look_away)), 0.3)
     assert percepts["detections"].detections == () and percepts["detections"].status != "ok"
     assert percepts["skeleton"].status == "person not in view"
     assert percepts["attention"] == ()
@@ -98,7 +108,7 @@ def test_attention_experiment_meets_the_papers_figures(tmp_path):
 
 def test_the_table_is_fitted_to_the_point_clouds(watching_the_face):
     """The planning scene's table (issue 9): top height within 1 cm, extent within 3 cm."""
-    station, percepts = watching_the_face
+    station, percepts, _ = watching_the_face
     report, table = percepts["table"], station.scenario.table
     assert report.status == "ok" and report.frames >= 10
     estimate = report.estimate
@@ -107,3 +117,22 @@ def test_the_table_is_fitted_to_the_point_clouds(watching_the_face):
     flipped = abs(math.cos(estimate.yaw - table.yaw)) < 0.5  # its long side along the table's y
     assert np.all(np.abs(estimate.size - (true_size[::-1] if flipped else true_size)) < 0.03)
     assert np.linalg.norm(estimate.center - table.center) < 0.03
+
+
+def test_the_planning_scene_matches_the_true_scene(watching_the_face):
+    """Issue 9's planning scene from percepts: each object where it stands, of its size; each
+    of the person's true joints inside the capsules or hidden behind them from the camera (an
+    elbow behind its own forearm on the table is lifted onto the forearm's top, 24 cm short)."""
+    station, percepts, truth = watching_the_face
+    scene = percepts["perceived_scene"]
+    scenario = station.scenario
+    for obj in scenario.objects:
+        shape = scene.object_named(obj.color)
+        true_center = object_center(scenario, obj)
+        assert np.linalg.norm(shape.center - true_center[:2]) < 0.01, obj.color
+        true_top = 2 * true_center[2] - scenario.table.height
+        assert abs(shape.bottom + shape.height - true_top) < 0.01, obj.color
+    for name in ("nose", "neck", "r_shoulder", "r_elbow", "r_wrist", "l_elbow", "l_wrist"):
+        sight = np.linspace(truth["camera"], truth[name], 200)
+        covered = min(np.min(capsule.distance(sight[100:])) for capsule in scene.person)
+        assert covered < 0, name

@@ -4,7 +4,8 @@
 - camera_color_image + depth -> ObjectDetector -> DetectionCrossCheck (against the map)
 - skeleton_keypoints + depth -> SkeletonLifter -> AttentionFocus -> the map's `attention`
 - skeleton, detections and their cross-check -> IntentEstimator (eqs. 16-17)
-- cloud -> TableEstimator (the table's top, for the planning scene)
+- cloud -> TableEstimator; with detections, depth and skeleton -> PerceivedSceneEstimator (what
+  the planner avoids)
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from hsr_handover.systems.detection_cross_check import DetectionCrossCheck
 from hsr_handover.systems.head_camera import to_camera_info
 from hsr_handover.systems.intent_estimator import IntentEstimator
 from hsr_handover.systems.object_detector import ObjectDetector
+from hsr_handover.systems.perceived_scene_estimator import PerceivedSceneEstimator
 from hsr_handover.systems.point_cloud_gng import PointCloudGng
 from hsr_handover.systems.skeleton_lifter import SkeletonLifter
 from hsr_handover.systems.table_estimator import TableEstimator
@@ -32,7 +34,7 @@ from hsr_handover.topology.growing_neural_gas import GrowingNeuralGas
 
 PERCEPTION_OUTPUTS = ("gng_graph", "gng_stats", "gng_frame_report", "point_cloud",
                       "detections", "detection_support", "skeleton", "attention", "intent",
-                      "intent_rays", "table")  # fmt: skip
+                      "intent_rays", "table", "perceived_scene")  # fmt: skip
 TABLE_FRAME_STRIDE = 6
 """The table is fitted to every sixth frame (5 Hz at 30 Hz): it does not move, and a frame's
 fit costs about 5 ms."""
@@ -144,6 +146,14 @@ def add_perception(builder: DiagramBuilder, scenario: Scenario) -> None:
         "table_estimator", TableEstimator(workspace, TABLE_FRAME_STRIDE / scenario.camera.rate_hz)
     )
     builder.Connect(to_cloud.point_cloud_output_port(), table.GetInputPort("point_cloud"))
+    scene = builder.AddNamedSystem(
+        "perceived_scene_estimator", PerceivedSceneEstimator(scenario.camera.pinhole())
+    )
+    builder.Connect(table.GetOutputPort("table"), scene.GetInputPort("table"))
+    builder.Connect(detector.GetOutputPort("detections"), scene.GetInputPort("detections"))
+    builder.Connect(lifter.GetOutputPort("skeleton"), scene.GetInputPort("skeleton"))
+    inputs.feed(interface.CAMERA_DEPTH_IMAGE, scene.GetInputPort("depth_image"))
+    inputs.feed(interface.CAMERA_POSE, scene.GetInputPort("camera_pose"))
     intent = _add_intent(builder, inputs, scenario)
     for name, port in (
         ("skeleton", lifter.GetOutputPort("skeleton")),
@@ -164,6 +174,7 @@ def add_perception(builder: DiagramBuilder, scenario: Scenario) -> None:
         "intent": intent.GetOutputPort("intent"),
         "intent_rays": intent.GetOutputPort("rays"),
         "table": table.GetOutputPort("table"),
+        "perceived_scene": scene.GetOutputPort("scene"),
     }
     for name, port in exports.items():
         builder.ExportOutput(port, name)

@@ -1,0 +1,97 @@
+"""What the robot plans around, as it perceives it: the table's top, the objects on it, and
+the person as capsules around the lifted skeleton's bones.
+
+A lifted keypoint lies on the body's surface that faces the camera, so each bone's axis is put
+a limb's radius behind its keypoints, along the camera's line of sight; every capsule is then
+widened by a margin for the skeleton's error. COCO-18 has no hands: each forearm's capsule runs
+on past the wrist by a hand's length.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from hsr_handover.perception.coco18 import keypoint_index
+from hsr_handover.perception.object_shapes import ObjectShape
+from hsr_handover.perception.table_fit import TableEstimate
+
+HAND_LENGTH = 0.18  # m, wrist to fingertips of an adult hand
+PERSON_MARGIN = 0.05
+"""m added to every capsule: the lifted skeleton is off by a few cm."""
+
+# Bone radii (m), adult anthropometry rounded up (upper arm and forearm girths of about 30 and
+# 26 cm, thigh 55 cm, calf 37 cm; the head's breadth about 15 cm; the chest's depth about 24 cm).
+_BONES = {
+    ("neck", "r_shoulder"): 0.06, ("neck", "l_shoulder"): 0.06,
+    ("r_shoulder", "r_elbow"): 0.05, ("l_shoulder", "l_elbow"): 0.05,
+    ("r_elbow", "r_wrist"): 0.045, ("l_elbow", "l_wrist"): 0.045,
+    ("neck", "r_hip"): 0.12, ("neck", "l_hip"): 0.12,
+    ("r_hip", "r_knee"): 0.09, ("l_hip", "l_knee"): 0.09,
+    ("r_knee", "r_ankle"): 0.06, ("l_knee", "l_ankle"): 0.06,
+    ("neck", "nose"): 0.1,
+}  # fmt: skip
+BONES = {(keypoint_index(a), keypoint_index(b)): radius for (a, b), radius in _BONES.items()}
+_WRISTS = (keypoint_index("r_wrist"), keypoint_index("l_wrist"))
+
+
+@dataclasses.dataclass(frozen=True)
+class Capsule:
+    """A segment from `start` to `end` (m, world) swept by a sphere of `radius` (m)."""
+
+    start: np.ndarray
+    end: np.ndarray
+    radius: float
+
+    @property
+    def length(self) -> float:
+        return float(np.linalg.norm(self.end - self.start))
+
+    def distance(self, points: np.ndarray) -> np.ndarray:
+        """Distance (m) from each point (N, 3) to the capsule's surface (negative inside)."""
+        points = np.asarray(points, dtype=float).reshape(-1, 3)
+        axis = self.end - self.start
+        t = np.clip((points - self.start) @ axis / max(float(axis @ axis), 1e-12), 0.0, 1.0)
+        nearest = self.start + t[:, None] * axis
+        return np.linalg.norm(points - nearest, axis=1) - self.radius
+
+
+def person_capsules(
+    points: np.ndarray,
+    confidence: np.ndarray,
+    camera_position: np.ndarray,
+    margin: float = PERSON_MARGIN,
+) -> tuple[Capsule, ...]:
+    """Capsules around the bones of a lifted COCO-18 skeleton (18 x 3 points, 18 confidences)
+    whose two keypoints were seen, seen from `camera_position` (3,)."""
+    points = np.asarray(points, dtype=float)
+    seen = (np.asarray(confidence) > 0) & np.isfinite(points).all(axis=1)
+    capsules = []
+    for (a, b), radius in BONES.items():
+        if not (seen[a] and seen[b]):
+            continue
+        start, end = (_behind(points[i], camera_position, radius) for i in (a, b))
+        if b in _WRISTS:
+            forearm = end - start
+            end = end + HAND_LENGTH * forearm / max(np.linalg.norm(forearm), 1e-9)
+        capsules.append(Capsule(start, end, radius + margin))
+    return tuple(capsules)
+
+
+def _behind(surface: np.ndarray, camera_position: np.ndarray, depth: float) -> np.ndarray:
+    sight = surface - camera_position
+    return surface + depth * sight / max(np.linalg.norm(sight), 1e-9)
+
+
+@dataclasses.dataclass(frozen=True)
+class PerceivedScene:
+    """Everything the planner avoids, from the percepts only: the table (None if unseen), the
+    detected objects' shapes and the person's capsules."""
+
+    table: TableEstimate | None
+    objects: tuple[ObjectShape, ...] = ()
+    person: tuple[Capsule, ...] = ()
+
+    def object_named(self, label: str) -> ObjectShape | None:
+        return next((shape for shape in self.objects if shape.label == label), None)

@@ -1,0 +1,121 @@
+"""The planning scene: a MultibodyPlant of its own holding the HSR and, as fixed collision
+geometry, what the robot perceives (DESIGN §3.4). Never the simulation's plant: that is truth.
+
+The table is a solid block from the floor to its fitted top (the camera cannot see under it,
+so no plan goes there); each object a cylinder or box; the person a capsule per bone. The HSR's
+own links do not collide with one another here: the arm's joint limits keep it off its body.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+
+from pydrake.geometry import (
+    Box,
+    CollisionFilterDeclaration,
+    Cylinder,
+    GeometryId,
+    GeometrySet,
+    QueryObject,
+    Shape,
+)
+from pydrake.geometry import Capsule as CapsuleShape
+from pydrake.math import RigidTransform, RotationMatrix
+from pydrake.multibody.parsing import Parser
+from pydrake.multibody.plant import AddMultibodyPlantSceneGraph, CoulombFriction, MultibodyPlant
+from pydrake.systems.framework import DiagramBuilder
+
+from hsr_handover.hsr import add_hsr, hsr_set_positions
+from hsr_handover.perception.object_shapes import CYLINDER, ObjectShape
+from hsr_handover.perception.table_fit import TableEstimate
+from hsr_handover.planning.perceived_scene import Capsule, PerceivedScene
+
+PLANNING_TIME_STEP = 0.01  # s: the HSR's mimic couplings need a discrete plant; never stepped
+TABLE, PERSON = "table", "person"
+NEAR = 0.5  # m: distances beyond this are not computed
+
+
+def _table_block(table: TableEstimate) -> tuple[Shape, RigidTransform]:
+    pose = RigidTransform(
+        RotationMatrix.MakeZRotation(table.yaw), [*table.center, table.height / 2]
+    )
+    return Box(table.size[0], table.size[1], table.height), pose
+
+
+def _object_solid(shape: ObjectShape) -> tuple[Shape, RigidTransform]:
+    pose = RigidTransform(RotationMatrix.MakeZRotation(shape.yaw), shape.centroid)
+    if shape.kind == CYLINDER:
+        return Cylinder(shape.radius, shape.height), pose
+    return Box(shape.size[0], shape.size[1], shape.height), pose
+
+
+def _capsule_solid(capsule: Capsule) -> tuple[Shape, RigidTransform]:
+    axis = capsule.end - capsule.start
+    rotation = RotationMatrix.MakeFromOneVector(axis if capsule.length > 1e-9 else [0, 0, 1], 2)
+    pose = RigidTransform(rotation, (capsule.start + capsule.end) / 2)
+    return CapsuleShape(capsule.radius, capsule.length), pose
+
+
+class PlanningScene:
+    """The HSR and the perceived scene in a plant built for planning queries.
+
+    `plant`, `scene_graph`, `diagram` and a `context` (with `plant_context`) to query; the
+    HSR's model instance is `robot`. `geometry` maps each obstacle's name (TABLE, an object's
+    label, or PERSON) to its geometry ids.
+    """
+
+    def __init__(self, scene: PerceivedScene):
+        builder = DiagramBuilder()
+        plant, scene_graph = AddMultibodyPlantSceneGraph(builder, PLANNING_TIME_STEP)
+        self.plant: MultibodyPlant = plant
+        self.scene_graph = scene_graph
+        self.robot = add_hsr(plant, Parser(plant))
+        self.scene = scene
+        self.geometry: dict[str, list[GeometryId]] = {}
+        if scene.table is not None:
+            self._add(TABLE, *_table_block(scene.table))
+        for shape in scene.objects:
+            self._add(shape.label, *_object_solid(shape))
+        for capsule in scene.person:
+            self._add(PERSON, *_capsule_solid(capsule))
+        plant.Finalize()
+        robot_geometry = GeometrySet(
+            [gid for body in plant.GetBodyIndices(self.robot)
+             for gid in plant.GetCollisionGeometriesForBody(plant.get_body(body))]
+        )  # fmt: skip
+        scene_graph.collision_filter_manager().Apply(
+            CollisionFilterDeclaration().ExcludeWithin(robot_geometry)
+        )
+        self.diagram = builder.Build()
+        self.context = self.diagram.CreateDefaultContext()
+        self.plant_context = plant.GetMyMutableContextFromRoot(self.context)
+
+    def _add(self, name: str, shape: Shape, pose: RigidTransform) -> None:
+        index = sum(len(ids) for ids in self.geometry.values())
+        gid = self.plant.RegisterCollisionGeometry(
+            self.plant.world_body(), pose, shape, f"{name}_{index}", CoulombFriction(0.5, 0.5)
+        )
+        self.geometry.setdefault(name, []).append(gid)
+
+    def set_positions(self, positions: Mapping[str, float]) -> None:
+        """Put the HSR in a configuration (actuated joint names, or "gripper" for the opening;
+        the torso follows the arm lift)."""
+        hsr_set_positions(self.plant, self.plant_context, self.robot, positions)
+
+    def query(self) -> QueryObject:
+        return self.plant.get_geometry_query_input_port().Eval(self.plant_context)
+
+    def clearance(self, ignore: tuple[str, ...] = ()) -> tuple[float, str]:
+        """The least signed distance (m) between the HSR and any obstacle but those named in
+        `ignore`, and that obstacle's name; (inf, "") when nothing is within NEAR."""
+        ignored = {gid for name in ignore for gid in self.geometry.get(name, [])}
+        owner = {gid: name for name, ids in self.geometry.items() for gid in ids}
+        best, nearest = math.inf, ""
+        for pair in self.query().ComputeSignedDistancePairwiseClosestPoints(NEAR):
+            obstacle = owner.get(pair.id_A, owner.get(pair.id_B))
+            if obstacle is None or pair.id_A in ignored or pair.id_B in ignored:
+                continue
+            if pair.distance < best:
+                best, nearest = float(pair.distance), obstacle
+        return best, nearest

@@ -1,0 +1,59 @@
+"""PerceivedSceneEstimator: what the planner must avoid, from the robot's percepts."""
+
+from __future__ import annotations
+
+from pydrake.common.value import AbstractValue
+from pydrake.math import RigidTransform
+from pydrake.systems.framework import Context, LeafSystem
+from pydrake.systems.sensors import ImageDepth32F
+
+from hsr_handover.perception.object_shapes import measure_objects
+from hsr_handover.perception.pinhole import PinholeCamera
+from hsr_handover.planning.perceived_scene import PERSON_MARGIN, PerceivedScene, person_capsules
+
+
+class PerceivedSceneEstimator(LeafSystem):
+    """The planning scene's contents (DESIGN §3.4), computed when asked for.
+
+    Inputs: `table` (TableReport), `detections` (DetectionResult: every detection is an
+    obstacle, confirmed by the map or not), `depth_image` (ImageDepth32F of the detections'
+    capture), `camera_pose` (RigidTransform X_WC) and
+    `skeleton` (the lifted Skeleton). Output `scene`: a PerceivedScene: the fitted table, each
+    detected object as a cylinder or box standing on it (none before the table is seen), and
+    the person's capsules widened by `person_margin` (m). `camera` holds the intrinsics of the
+    depth image's size.
+    """
+
+    def __init__(self, camera: PinholeCamera, person_margin: float = PERSON_MARGIN):
+        super().__init__()
+        if not person_margin >= 0:
+            raise ValueError(f"person_margin: expected a distance >= 0 m, got {person_margin}")
+        self._camera, self._margin = camera, person_margin
+        self._table = self.DeclareAbstractInputPort("table", AbstractValue.Make(object()))
+        self._detections = self.DeclareAbstractInputPort("detections", AbstractValue.Make(object()))
+        self._depth = self.DeclareAbstractInputPort(
+            "depth_image", AbstractValue.Make(ImageDepth32F())
+        )
+        self._pose = self.DeclareAbstractInputPort(
+            "camera_pose", AbstractValue.Make(RigidTransform())
+        )
+        self._skeleton = self.DeclareAbstractInputPort("skeleton", AbstractValue.Make(object()))
+        self.DeclareAbstractOutputPort(
+            "scene", lambda: AbstractValue.Make(PerceivedScene(None)), self._calc_scene
+        )
+
+    def _calc_scene(self, context: Context, output: AbstractValue) -> None:
+        table = self._table.Eval(context).estimate
+        pose = self._pose.Eval(context)
+        skeleton = self._skeleton.Eval(context)
+        person = person_capsules(
+            skeleton.points, skeleton.confidence, pose.translation(), self._margin
+        )
+        objects = ()
+        if table is not None:
+            detections = self._detections.Eval(context).detections
+            depth = self._depth.Eval(context).data[:, :, 0]
+            objects = tuple(
+                measure_objects(detections, depth, self._camera, pose.GetAsMatrix4(), table.height)
+            )
+        output.set_value(PerceivedScene(table, objects, person))

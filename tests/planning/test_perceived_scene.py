@@ -1,0 +1,102 @@
+"""What the planner avoids, from percepts (layer 1): object shapes from depth points, the
+person's capsules from a lifted skeleton."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from hsr_handover.perception.coco18 import NUM_KEYPOINTS, keypoint_index
+from hsr_handover.perception.object_shapes import BOX, CYLINDER, MIN_POINTS, fit_shape
+from hsr_handover.planning.perceived_scene import (
+    BONES,
+    HAND_LENGTH,
+    Capsule,
+    person_capsules,
+)
+
+TABLE_TOP = 0.72
+
+
+def _cylinder_seen_from(camera_xy, center, radius, height, rng) -> np.ndarray:
+    """The half of a cylinder's side that faces the camera, and its rim."""
+    toward = math.atan2(camera_xy[1] - center[1], camera_xy[0] - center[0])
+    side = rng.uniform(toward - math.pi / 2, toward + math.pi / 2, 600)
+    rim = rng.uniform(0, 2 * math.pi, 200)
+    angles = np.concatenate([side, rim])
+    z = np.concatenate([rng.uniform(TABLE_TOP, TABLE_TOP + height, 600),
+                        np.full(200, TABLE_TOP + height)])  # fmt: skip
+    return np.column_stack([center[0] + radius * np.cos(angles),
+                            center[1] + radius * np.sin(angles), z])  # fmt: skip
+
+
+def test_a_cup_is_a_cylinder_of_its_size_though_only_its_front_and_rim_are_seen():
+    points = _cylinder_seen_from((0, 0), (0.8, 0.2), 0.035, 0.1, np.random.default_rng(0))
+    shape = fit_shape("red", points, TABLE_TOP)
+    assert shape.kind == CYLINDER and shape.label == "red"
+    np.testing.assert_allclose(shape.center, [0.8, 0.2], atol=2e-3)
+    assert shape.radius == pytest.approx(0.035, abs=2e-3)
+    assert shape.height == pytest.approx(0.1, abs=1e-6) and shape.bottom == TABLE_TOP
+    np.testing.assert_allclose(shape.centroid, [0.8, 0.2, TABLE_TOP + 0.05], atol=2e-3)
+
+
+def test_a_box_is_a_box_with_its_sides_and_yaw():
+    rng = np.random.default_rng(1)
+    local = np.column_stack([rng.uniform(-0.05, 0.05, 800), rng.uniform(-0.03, 0.03, 800)])
+    yaw = 0.4
+    rotation = np.array([[math.cos(yaw), -math.sin(yaw)], [math.sin(yaw), math.cos(yaw)]])
+    xy = np.array([0.9, -0.1]) + local @ rotation.T
+    points = np.column_stack([xy, np.full(800, TABLE_TOP + 0.12)])  # its lid
+    shape = fit_shape("yellow", points, TABLE_TOP)
+    assert shape.kind == BOX
+    np.testing.assert_allclose(shape.center, [0.9, -0.1], atol=3e-3)
+    sides = sorted(shape.size)
+    assert sides == pytest.approx([0.06, 0.1], abs=4e-3)
+    long_side_yaw = shape.yaw if shape.size[0] > shape.size[1] else shape.yaw + math.pi / 2
+    assert math.sin(long_side_yaw - yaw) == pytest.approx(0.0, abs=0.03)
+    assert shape.radius == pytest.approx(math.hypot(0.05, 0.03), abs=3e-3)
+
+
+def test_too_few_points_make_no_shape():
+    points = np.full((MIN_POINTS - 1, 3), [0.8, 0.0, 0.8])
+    assert fit_shape("red", points, TABLE_TOP) is None
+
+
+def test_a_capsule_measures_distance_to_its_surface():
+    capsule = Capsule(np.zeros(3), np.array([1.0, 0, 0]), 0.1)
+    distances = capsule.distance(np.array([[0.5, 0.3, 0], [-0.2, 0, 0], [0.5, 0, 0]]))
+    np.testing.assert_allclose(distances, [0.2, 0.1, -0.1])
+    assert capsule.length == 1.0
+
+
+def _skeleton() -> tuple[np.ndarray, np.ndarray]:
+    """A person 2 m in front of a camera at the origin, facing it, the right arm held out."""
+    points = np.full((NUM_KEYPOINTS, 3), np.nan)
+    where = {"nose": (2.0, 0, 1.5), "neck": (2.0, 0, 1.35), "r_shoulder": (2.0, -0.2, 1.35),
+             "r_elbow": (1.75, -0.2, 1.35), "r_wrist": (1.5, -0.2, 1.35),
+             "l_shoulder": (2.0, 0.2, 1.35), "r_hip": (2.0, -0.1, 0.9)}  # fmt: skip
+    for name, point in where.items():
+        points[keypoint_index(name)] = point
+    confidence = np.where(np.isfinite(points[:, 0]), 0.9, 0.0)
+    return points, confidence
+
+
+def test_the_person_is_capsules_behind_the_seen_surface_with_a_hand_past_the_wrist():
+    points, confidence = _skeleton()
+    camera = np.zeros(3)
+    capsules = person_capsules(points, confidence, camera, margin=0.05)
+    seen = [(a, b) for a, b in BONES if confidence[a] > 0 and confidence[b] > 0]
+    assert len(capsules) == len(seen) == 6  # none to the left elbow or the left hip
+    neck_to_shoulder = capsules[seen.index((keypoint_index("neck"), keypoint_index("r_shoulder")))]
+    radius = BONES[keypoint_index("neck"), keypoint_index("r_shoulder")]
+    assert neck_to_shoulder.radius == pytest.approx(radius + 0.05)
+    # The axis lies a bone's radius behind the surface point, away from the camera.
+    expected = points[keypoint_index("neck")] * (1 + radius / np.linalg.norm(points[1]))
+    np.testing.assert_allclose(neck_to_shoulder.start, expected)
+    forearm = capsules[seen.index((keypoint_index("r_elbow"), keypoint_index("r_wrist")))]
+    assert forearm.length == pytest.approx(0.25 + HAND_LENGTH, abs=0.01)
+    fingertips = np.array([1.5 - HAND_LENGTH + 0.02, -0.2, 1.35])
+    assert forearm.distance(fingertips)[0] < 0  # the hand is covered
+    assert person_capsules(points, np.zeros(NUM_KEYPOINTS), camera) == ()

@@ -1,0 +1,72 @@
+"""The planning scene (issue 9, part 4): a plant of its own built from a PerceivedScene."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from hsr_handover.perception.object_shapes import CYLINDER, ObjectShape
+from hsr_handover.perception.table_fit import TableEstimate
+from hsr_handover.planning.perceived_scene import Capsule, PerceivedScene
+from hsr_handover.planning.planning_scene import PERSON, TABLE, PlanningScene
+
+TABLE_TOP = 0.72
+TABLE_NEAR_EDGE = 0.6  # m ahead of the robot's base
+
+
+def _table() -> TableEstimate:
+    size = np.array([0.6, 1.0])
+    center = np.array([TABLE_NEAR_EDGE + size[0] / 2, 0.0])
+    return TableEstimate(TABLE_TOP, center, size, 0.0, 6000)
+
+
+def _cup(label: str, x: float, y: float) -> ObjectShape:
+    return ObjectShape(label, CYLINDER, np.array([x, y]), np.array([0.07, 0.07]), 0.0,
+                       TABLE_TOP, 0.1)  # fmt: skip
+
+
+@pytest.fixture(scope="module")
+def scene() -> PlanningScene:
+    person = Capsule(np.array([1.6, 0.0, 0.8]), np.array([1.6, 0.0, 1.4]), 0.2)
+    perceived = PerceivedScene(_table(), (_cup("red", 0.7, 0.2),), (person,))
+    return PlanningScene(perceived)
+
+
+def test_every_percept_becomes_named_collision_geometry(scene):
+    assert set(scene.geometry) == {TABLE, "red", PERSON}
+    inspector = scene.query().inspector()
+    (table,) = scene.geometry[TABLE]
+    np.testing.assert_allclose(inspector.GetShape(table).size(), [0.6, 1.0, TABLE_TOP])
+    # The block stands on the floor: its top is the table's top.
+    assert inspector.GetPoseInFrame(table).translation()[2] == pytest.approx(TABLE_TOP / 2)
+
+
+def test_clearance_follows_the_base_toward_the_table(scene):
+    scene.set_positions({})
+    far, nearest = scene.clearance(ignore=("red",))
+    assert nearest == TABLE and 0.05 < far < TABLE_NEAR_EDGE
+    scene.set_positions({"base_x_joint": 0.05})
+    closer, _ = scene.clearance(ignore=("red",))
+    assert closer == pytest.approx(far - 0.05, abs=2e-3)
+    scene.set_positions({"base_x_joint": far + 0.05})
+    inside, nearest = scene.clearance(ignore=("red",))
+    assert nearest == TABLE and inside < 0  # penetration is a negative distance
+
+
+def test_ignoring_an_obstacle_leaves_the_others():
+    # A cup on the floor just ahead of the base is nearer than the table, until it is ignored
+    # (as the target of a grasp is).
+    cup = dataclasses.replace(_cup("red", 0.35, 0.0), bottom=0.0)
+    scene = PlanningScene(PerceivedScene(_table(), (cup,)))
+    scene.set_positions({})
+    distance, nearest = scene.clearance()
+    ignored_distance, other = scene.clearance(ignore=("red",))
+    assert nearest == "red" and other == TABLE and ignored_distance > distance
+
+
+def test_an_empty_scene_has_nothing_near():
+    scene = PlanningScene(PerceivedScene(None))
+    scene.set_positions({})
+    assert scene.clearance() == (np.inf, "")
