@@ -8,9 +8,11 @@ own links do not collide with one another here: the arm's joint limits keep it o
 
 from __future__ import annotations
 
+import contextlib
 import math
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping, Sequence
 
+import numpy as np
 from pydrake.geometry import (
     Box,
     CollisionFilterDeclaration,
@@ -26,7 +28,13 @@ from pydrake.multibody.parsing import Parser
 from pydrake.multibody.plant import AddMultibodyPlantSceneGraph, CoulombFriction, MultibodyPlant
 from pydrake.systems.framework import DiagramBuilder
 
-from hsr_handover.hsr import add_hsr, hsr_set_positions
+from hsr_handover.hsr import (
+    GRIPPER_JOINT,
+    GRIPPER_MIMIC_JOINT,
+    TORSO_JOINT,
+    add_hsr,
+    hsr_set_positions,
+)
 from hsr_handover.perception.object_shapes import CYLINDER, ObjectShape
 from hsr_handover.perception.table_fit import TableEstimate
 from hsr_handover.planning.perceived_scene import Capsule, PerceivedScene
@@ -80,16 +88,17 @@ class PlanningScene:
         for capsule in scene.person:
             self._add(PERSON, *_capsule_solid(capsule))
         plant.Finalize()
-        robot_geometry = GeometrySet(
+        self.robot_geometry = GeometrySet(
             [gid for body in plant.GetBodyIndices(self.robot)
              for gid in plant.GetCollisionGeometriesForBody(plant.get_body(body))]
         )  # fmt: skip
         scene_graph.collision_filter_manager().Apply(
-            CollisionFilterDeclaration().ExcludeWithin(robot_geometry)
+            CollisionFilterDeclaration().ExcludeWithin(self.robot_geometry)
         )
         self.diagram = builder.Build()
         self.context = self.diagram.CreateDefaultContext()
         self.plant_context = plant.GetMyMutableContextFromRoot(self.context)
+        self._scene_graph_context = scene_graph.GetMyMutableContextFromRoot(self.context)
 
     def _add(self, name: str, shape: Shape, pose: RigidTransform) -> None:
         index = sum(len(ids) for ids in self.geometry.values())
@@ -103,19 +112,50 @@ class PlanningScene:
         the torso follows the arm lift)."""
         hsr_set_positions(self.plant, self.plant_context, self.robot, positions)
 
+    def index(self, joint: str) -> int:
+        """The joint's index in the plant's position vector (not the joint order)."""
+        return self.plant.GetJointByName(joint, self.robot).position_start()
+
+    def positions(self) -> np.ndarray:
+        return self.plant.GetPositions(self.plant_context).copy()
+
+    def couplings(self) -> tuple[np.ndarray, np.ndarray]:
+        """(A, b) with A q = b: the torso at half the arm lift, the right finger with the left
+        (the plant's mimic joints, which optimisation does not see)."""
+        rows = []
+        for follower, leader, ratio in ((TORSO_JOINT, "arm_lift_joint", 0.5),
+                                        (GRIPPER_MIMIC_JOINT, GRIPPER_JOINT, 1.0)):  # fmt: skip
+            row = np.zeros(self.plant.num_positions())
+            row[self.index(follower)], row[self.index(leader)] = 1.0, -ratio
+            rows.append(row)
+        return np.array(rows), np.zeros(len(rows))
+
+    @contextlib.contextmanager
+    def ignoring(self, names: Sequence[str]) -> Iterator[None]:
+        """Within the block, the HSR does not collide with the obstacles named (a target being
+        grasped, the object held): distance queries and constraints leave them out."""
+        ids = GeometrySet([gid for name in names for gid in self.geometry.get(name, [])])
+        manager = self.scene_graph.collision_filter_manager(self._scene_graph_context)
+        handle = manager.ApplyTransient(
+            CollisionFilterDeclaration().ExcludeBetween(self.robot_geometry, ids)
+        )
+        try:
+            yield
+        finally:
+            manager.RemoveDeclaration(handle)
+
     def query(self) -> QueryObject:
         return self.plant.get_geometry_query_input_port().Eval(self.plant_context)
 
     def clearance(self, ignore: tuple[str, ...] = ()) -> tuple[float, str]:
         """The least signed distance (m) between the HSR and any obstacle but those named in
         `ignore`, and that obstacle's name; (inf, "") when nothing is within NEAR."""
-        ignored = {gid for name in ignore for gid in self.geometry.get(name, [])}
         owner = {gid: name for name, ids in self.geometry.items() for gid in ids}
         best, nearest = math.inf, ""
-        for pair in self.query().ComputeSignedDistancePairwiseClosestPoints(NEAR):
+        with self.ignoring(ignore):
+            pairs = self.query().ComputeSignedDistancePairwiseClosestPoints(NEAR)
+        for pair in pairs:
             obstacle = owner.get(pair.id_A, owner.get(pair.id_B))
-            if obstacle is None or pair.id_A in ignored or pair.id_B in ignored:
-                continue
-            if pair.distance < best:
+            if obstacle is not None and pair.distance < best:
                 best, nearest = float(pair.distance), obstacle
         return best, nearest

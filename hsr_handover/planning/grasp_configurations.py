@@ -1,0 +1,65 @@
+"""The configurations of a grasp (issue 9, part 6): for the first grasp candidate and base
+placement that inverse kinematics confirms, the grasp itself (pads round the target, which
+alone may be touched) and the pre-grasp standing off along the approach (everything avoided),
+the base where it is for both. "unreachable" when none is found, never an exception.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+
+import numpy as np
+
+from hsr_handover.effectivity.arm_map import ArmEffectivity
+from hsr_handover.hsr import BASE_JOINTS
+from hsr_handover.planning.base_placement import place_base
+from hsr_handover.planning.grasps import Grasp, grasp_candidates
+from hsr_handover.planning.inverse_kinematics import PalmGoal, solve_palm_ik
+from hsr_handover.planning.planning_scene import PlanningScene
+
+UNREACHABLE = "unreachable"
+
+
+@dataclasses.dataclass(frozen=True)
+class GraspConfigurations:
+    """`ok` with the `grasp`, `q_pregrasp` and `q_grasp` (plant positions), or not with the
+    `reason`; `ik_solves` tried and their `seconds`."""
+
+    ok: bool
+    reason: str
+    grasp: Grasp | None = None
+    q_pregrasp: np.ndarray | None = None
+    q_grasp: np.ndarray | None = None
+    ik_solves: int = 0
+    seconds: float = 0.0
+
+
+def grasp_configurations(
+    scene: PlanningScene, arm_map: ArmEffectivity | None, label: str, q_now: np.ndarray
+) -> GraspConfigurations:
+    """Grasp the perceived object `label` from the robot's configuration `q_now`; with
+    `arm_map` None, IK starts from the arm as it is (the unseeded baseline)."""
+    start = time.perf_counter()
+    shape = scene.scene.object_named(label)
+    if shape is None:
+        return GraspConfigurations(False, f"{UNREACHABLE}: {label!r} is not in the scene")
+    robot_xy = q_now[[scene.index(BASE_JOINTS[0]), scene.index(BASE_JOINTS[1])]]
+    solves = 0
+    for grasp in grasp_candidates(shape, robot_xy):
+        for placement in place_base(scene, arm_map, grasp.point, grasp.approach,
+                                    grasp.closing, q_now):  # fmt: skip
+            goal = PalmGoal(grasp.point, grasp.approach, grasp.closing, grasp.opening)
+            at_grasp = solve_palm_ik(scene, goal, placement.q, ignore=(label,))
+            solves += 1
+            if not at_grasp.ok:
+                continue
+            before = dataclasses.replace(goal, point=grasp.pregrasp_point)
+            at_pregrasp = solve_palm_ik(scene, before, at_grasp.q)
+            solves += 1
+            if at_pregrasp.ok:
+                return GraspConfigurations(True, "ok", grasp, at_pregrasp.q, at_grasp.q, solves,
+                                           time.perf_counter() - start)  # fmt: skip
+    reason = f"{UNREACHABLE}: no grasp of {label!r} passed inverse kinematics"
+    return GraspConfigurations(False, reason, ik_solves=solves,
+                               seconds=time.perf_counter() - start)  # fmt: skip

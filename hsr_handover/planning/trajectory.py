@@ -1,0 +1,98 @@
+"""A collision-free path between two configurations (issue 9, part 7): Drake's
+KinematicTrajectoryOptimization over every position of the HSR (base included), a cubic
+B-spline (C2, as toppra needs), shortest in duration and length, within the joints' position
+and velocity limits, the torso and the right finger coupled on every control point, the head
+held, and at least COLLISION_BOUND from every obstacle not ignored at COLLISION_SAMPLES points.
+
+The bound is larger than the planner's true margin: between samples the path may dip by up to
+about 11 mm (DESIGN §6), so the timed trajectory is checked afterwards every 10 ms.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+
+import numpy as np
+from pydrake.multibody.inverse_kinematics import MinimumDistanceLowerBoundConstraint
+from pydrake.planning import KinematicTrajectoryOptimization
+from pydrake.solvers import Solve
+from pydrake.trajectories import BsplineTrajectory
+
+from hsr_handover.hsr import HEAD_JOINTS
+from hsr_handover.planning.planning_scene import PlanningScene
+
+CONTROL_POINTS = 10
+COLLISION_SAMPLES = 30
+COLLISION_BOUND = 0.013  # m at the samples: about 1 cm everywhere between them
+INFLUENCE = 0.05  # m beyond the bound where distances start to count
+MAX_DURATION = 30.0  # s of the path's nominal time (toppra retimes it)
+FREE_POSITION = 20.0  # m: stands in for the base's unbounded x and y
+
+
+@dataclasses.dataclass(frozen=True)
+class PathResult:
+    """`ok` with the `path` (a B-spline over plant positions, on its own time scale), or not
+    with the `reason`; `seconds` spent."""
+
+    ok: bool
+    reason: str
+    path: BsplineTrajectory | None
+    seconds: float
+
+
+def straight_guess(q_start: np.ndarray, q_goal: np.ndarray, count: int = CONTROL_POINTS):
+    """Control points (nq, count) on the straight line in joint space."""
+    return np.linspace(q_start, q_goal, count).T
+
+
+def optimize_path(
+    scene: PlanningScene,
+    q_start: np.ndarray,
+    q_goal: np.ndarray,
+    guess: np.ndarray | None = None,
+    ignore: tuple[str, ...] = (),
+) -> PathResult:
+    """The path from `q_start` to `q_goal` (plant positions), starting from the control points
+    `guess` (nq, CONTROL_POINTS; the straight line when None). Never raises for an
+    infeasible problem: `ok` is False and `reason` says why."""
+    start = time.perf_counter()
+    guess = straight_guess(q_start, q_goal) if guess is None else guess
+    with scene.ignoring(ignore):
+        trajopt, constraint = _build(scene, q_start, q_goal)
+        trajopt.SetInitialGuess(BsplineTrajectory(trajopt.basis(), guess * 1.0))
+        result = Solve(trajopt.prog())
+        del constraint  # the solve is done; the constraint held the plant context
+    seconds = time.perf_counter() - start
+    if not result.is_success():
+        reason = f"no path ({result.get_solver_id().name()} {result.get_solution_result().name})"
+        return PathResult(False, reason, None, seconds)
+    return PathResult(True, "ok", trajopt.ReconstructTrajectory(result), seconds)
+
+
+def _build(scene: PlanningScene, q_start: np.ndarray, q_goal: np.ndarray):
+    plant = scene.plant
+    nq = plant.num_positions()
+    trajopt = KinematicTrajectoryOptimization(nq, CONTROL_POINTS)
+    prog = trajopt.get_mutable_prog()
+    trajopt.AddDurationCost(1.0)
+    trajopt.AddPathLengthCost(1.0)
+    lower = np.maximum(plant.GetPositionLowerLimits(), -FREE_POSITION)
+    upper = np.minimum(plant.GetPositionUpperLimits(), FREE_POSITION)
+    trajopt.AddPositionBounds(lower, upper)
+    trajopt.AddVelocityBounds(-plant.GetVelocityUpperLimits(), plant.GetVelocityUpperLimits())
+    trajopt.AddDurationConstraint(0.1, MAX_DURATION)
+    trajopt.AddPathPositionConstraint(q_start, q_start, 0)
+    trajopt.AddPathPositionConstraint(q_goal, q_goal, 1)
+    A, b = scene.couplings()
+    points = trajopt.control_points()
+    held = [scene.index(joint) for joint in HEAD_JOINTS]
+    for j in range(points.shape[1]):
+        prog.AddLinearEqualityConstraint(A, b, points[:, j])
+        prog.AddBoundingBoxConstraint(q_start[held], q_start[held], points[held, j])
+    constraint = MinimumDistanceLowerBoundConstraint(
+        plant, COLLISION_BOUND, scene.plant_context, None, INFLUENCE
+    )
+    for s in np.linspace(0, 1, COLLISION_SAMPLES):
+        trajopt.AddPathPositionConstraint(constraint, s)
+    return trajopt, constraint
