@@ -72,6 +72,12 @@ def _parser() -> argparse.ArgumentParser:
     attention.add_argument("--html", type=Path, help="replay to write (.html)")
     attention.add_argument("--duration", type=float, help="simulated seconds (overrides the file)")
     attention.add_argument("--seed", type=int, help="random seed (overrides the file)")
+    effectivity = commands.add_parser(
+        "effectivity", help="the arm's and the person's ranges and the handover point (figs. 8, 14)"
+    )
+    effectivity.add_argument("scenario", type=Path, help="scenario YAML with a person")
+    effectivity.add_argument("--plot", type=Path, help="figure to write (.png)")
+    effectivity.add_argument("--json", type=Path, help="summary to write (.json)")
     _add_experiment_parsers(commands)
     return parser
 
@@ -181,6 +187,26 @@ def _attention(args: argparse.Namespace) -> int:
     return 0
 
 
+def _effectivity(args: argparse.Namespace) -> int:
+    from hsr_handover.experiments.effectivity import run_effectivity
+    from hsr_handover.experiments.effectivity_report import plot, summary_lines, write_json
+    from hsr_handover.scenario import load_scenario
+
+    scenario = load_scenario(args.scenario)
+    outputs = {"plot": _output_path(args.plot, "--plot", ".png"),
+               "json": _output_path(args.json, "--json", ".json")}  # fmt: skip
+    result = run_effectivity(scenario)
+    for name, write in (("plot", plot), ("json", write_json)):
+        if outputs[name] is not None:
+            write(result, outputs[name])
+    print("\n".join(summary_lines(result)))
+    print(f"wall time {result.wall_s:.1f} s")
+    for path in outputs.values():
+        if path is not None:
+            print(f"wrote {path}")
+    return 0
+
+
 def _count(value: int | None, option: str, low: int, high: int) -> None:
     if value is not None and not low <= value <= high:
         raise UsageError(f"{option}: expected an integer in [{low}, {high}], got {value}")
@@ -236,6 +262,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     handlers = {
         "run": _run, "validate": _validate, "attention": _attention, "experiment": _experiment,
+        "effectivity": _effectivity,
     }  # fmt: skip
     try:
         return handlers[args.command](args)

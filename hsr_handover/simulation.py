@@ -22,6 +22,7 @@ from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import Context, Diagram, DiagramBuilder, EventStatus
 
 from hsr_handover import interface
+from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY
 from hsr_handover.replay import frame_view, make_local_meshcat, start_recording, write_replay
 from hsr_handover.robot import Robot, build_robot
 from hsr_handover.scenario import Scenario
@@ -44,6 +45,15 @@ class Simulation:
 
     def robot_context(self, root: Context) -> Context:
         return self.robot.diagram.GetMyContextFromRoot(root)
+
+    def measured_positions(self, root: Context) -> dict[str, float]:
+        """Where the robot's joint sensors say it is: the commanded joints by name and
+        "gripper", the fingertips' opening (m). Sensor outputs, not truth."""
+        station, context = self.station.diagram, self.station_context(root)
+        state = station.GetOutputPort(interface.HSR_STATE_MEASURED).Eval(context)
+        opening = station.GetOutputPort(interface.GRIPPER_OPENING_MEASURED).Eval(context)
+        joints = dict(zip(COMMANDED_JOINTS, state[: len(COMMANDED_JOINTS)], strict=True))
+        return {**joints, GRIPPER_KEY: float(opening[0])}
 
 
 def connect_robot(builder: DiagramBuilder, station: Diagram, robot: Diagram) -> None:

@@ -1,5 +1,5 @@
-"""Inverse kinematics and paths against a perceived scene (issue 9, parts 5-7): the bundled
-table with three cups 22 cm apart and a person seated across it."""
+"""Inverse kinematics, paths and the handover pose against a perceived scene (issue 9, parts
+3, 5-7): the bundled table with three cups 22 cm apart and a person seated across it."""
 
 from __future__ import annotations
 
@@ -9,11 +9,14 @@ import numpy as np
 import pytest
 
 from hsr_handover.effectivity.arm_map import load_or_build
+from hsr_handover.effectivity.mutual_area import ABOVE_TABLE
+from hsr_handover.effectivity.person_map import HumanArm, PersonEffectivity
 from hsr_handover.hsr import BASE_JOINTS, PALM_FRAME
 from hsr_handover.perception.object_shapes import CYLINDER, ObjectShape
 from hsr_handover.perception.table_fit import TableEstimate
 from hsr_handover.planning.grasp_configurations import UNREACHABLE, grasp_configurations
 from hsr_handover.planning.grasps import PAD_OFFSET
+from hsr_handover.planning.handover_pose import NO_MUTUAL_AREA, plan_handover_pose
 from hsr_handover.planning.inverse_kinematics import MIN_DISTANCE, PalmGoal, solve_palm_ik
 from hsr_handover.planning.perceived_scene import Capsule, PerceivedScene
 from hsr_handover.planning.planning_scene import PlanningScene
@@ -101,3 +104,27 @@ def test_the_optimised_path_keeps_clear_at_its_samples_and_joins_its_ends(scene,
         scene.plant.SetPositions(scene.plant_context, path.value(t).ravel())
         clearances.append(scene.clearance()[0])
     assert min(clearances) > COLLISION_BOUND - 0.012  # may dip between the optimiser's samples
+
+
+def test_the_handover_pose_meets_the_person_at_a_mutual_node(scene, arm_map):
+    shoulder = np.array([1.75, 0.19, 1.03])
+    frame = np.column_stack([[-1.0, 0, 0], [0, -1.0, 0], [0, 0, 1.0]])  # facing the robot
+    person = PersonEffectivity(HumanArm("r", shoulder, frame, 0.30, 0.25, 0.09))
+    pose = plan_handover_pose(scene, arm_map, person, scene.positions())
+    assert pose.ok, pose.reason
+    assert pose.mutual[np.flatnonzero(np.all(pose.robot_nodes == pose.point, axis=1))].all()
+    assert person.reachable(pose.point[None])[0]
+    assert pose.point[2] >= TABLE_TOP + ABOVE_TABLE
+    pads, _ = _pads(scene, pose.q)
+    assert np.all(np.abs(pads - pose.point) <= 0.0051)
+    assert scene.clearance()[0] >= MIN_DISTANCE - 1e-3
+    # The table is in front of the seated person: the robot comes round it to their side.
+    base = pose.q[[scene.index(joint) for joint in BASE_JOINTS]]
+    assert base[0] > 0.845 + 0.3 and abs(base[1]) > 0.3, base
+
+
+def test_a_person_out_of_every_reach_has_no_mutual_area(scene, arm_map):
+    frame = np.column_stack([[-1.0, 0, 0], [0, -1.0, 0], [0, 0, 1.0]])
+    tiny = HumanArm("r", np.array([1.75, 0.19, 3.5]), frame, 0.1, 0.1, 0.05)  # 3.5 m up
+    pose = plan_handover_pose(scene, arm_map, PersonEffectivity(tiny), scene.positions())
+    assert not pose.ok and pose.reason.startswith(NO_MUTUAL_AREA)

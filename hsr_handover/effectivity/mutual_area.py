@@ -1,0 +1,59 @@
+"""Where robot and person both reach (paper 3.3, fig. 14's red nodes) and the handover point in
+it (issue 9, part 3).
+
+The rule for the handover point: in front of the receiver (Koay et al. 2007: seated people
+prefer being approached and handed things from the front), in reach without stretching: the
+point straight ahead of the receiving shoulder, COMFORT_PITCH_DEG below level, at COMFORT_REACH
+of the arm's full reach, the elbow bent as in a relaxed reach (Cakmak et al. 2011: receivers
+prefer the poses they would choose themselves; the 70 % and 20 degrees are this project's
+choice within that). The point handed over at is the mutual-area node nearest that ideal, at
+least ABOVE_TABLE over the table's top and AWAY_FROM_BODY from the body's capsules.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from hsr_handover.effectivity.person_map import HumanArm, PersonEffectivity
+
+COMFORT_REACH = 0.7  # of the arm's full reach
+COMFORT_PITCH_DEG = -20.0  # below the shoulder's level
+ABOVE_TABLE = 0.15  # m over the table's top: an object held and the hands around it
+AWAY_FROM_BODY = 0.10  # m from the body's capsules' surface
+
+
+def ideal_handover_point(arm: HumanArm) -> np.ndarray:
+    """The rule's ideal point (world, m) for the receiving arm."""
+    pitch = math.radians(COMFORT_PITCH_DEG)
+    direction = arm.frame @ np.array([math.cos(pitch), 0.0, math.sin(pitch)])
+    return arm.shoulder + COMFORT_REACH * arm.reach * direction
+
+
+def mutual_mask(robot_nodes: np.ndarray, person: PersonEffectivity) -> np.ndarray:
+    """Which robot nodes (n, 3, world) the person reaches too: the mutual area."""
+    return person.reachable(robot_nodes)
+
+
+def handover_point(
+    robot_nodes: np.ndarray,
+    person: PersonEffectivity,
+    table_height: float | None,
+    body: Sequence = (),
+) -> tuple[np.ndarray | None, np.ndarray]:
+    """The handover point (world, m; None when the areas do not meet or no node suits) and the
+    mutual mask over `robot_nodes` (n, 3, world). `body` holds capsules with `distance(points)`."""
+    mutual = mutual_mask(robot_nodes, person)
+    suitable = mutual.copy()
+    if table_height is not None:
+        suitable &= robot_nodes[:, 2] >= table_height + ABOVE_TABLE
+    for capsule in body:
+        suitable &= capsule.distance(robot_nodes) >= AWAY_FROM_BODY
+    if not suitable.any():
+        return None, mutual
+    ideal = ideal_handover_point(person.arm)
+    candidates = np.flatnonzero(suitable)
+    best = candidates[np.argmin(np.linalg.norm(robot_nodes[candidates] - ideal, axis=1))]
+    return robot_nodes[best].copy(), mutual

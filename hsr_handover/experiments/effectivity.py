@@ -1,0 +1,100 @@
+"""The paper's figs. 8 and 14 on a scenario (issue 9, part 3): the arm's effectivity map with
+eq. 11's palm error, and, from what the robot perceives after a few seconds of watching, the
+scene's map, the person's range, the mutual area at the robot's handover base and the handover
+point.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+
+import numpy as np
+from pydrake.systems.analysis import Simulator
+
+from hsr_handover.effectivity.arm_map import ArmEffectivity, load_or_build
+from hsr_handover.effectivity.person_map import PersonEffectivity, perceived_arm
+from hsr_handover.kinematics.hsr_arm import palm_position, sample_arm_joints
+from hsr_handover.planning.handover_pose import HandoverPose, plan_handover_pose
+from hsr_handover.planning.planning_scene import PlanningScene
+from hsr_handover.scenario import Scenario
+from hsr_handover.simulation import build_simulation
+
+WATCH_S = 2.0  # s the robot watches before the figures: the table fitted, the person lifted
+RANDOM_TARGETS = 2000  # reachable palm positions for eq. 11's error away from the nodes
+SIDES = ("r", "l")  # the receiving arm: the right unless it is not seen
+
+
+@dataclasses.dataclass(frozen=True)
+class EffectivityResult:
+    """What the figures show (world frame, m, unless said otherwise)."""
+
+    arm_nodes: np.ndarray  # the arm map's nodes, base frame
+    arm_edges: np.ndarray
+    palm_error_nodes_m: float  # eq. 11 medians
+    palm_error_random_m: float
+    scene_nodes: np.ndarray  # the perceived scene's GNG
+    person: PersonEffectivity | None
+    handover: HandoverPose | None
+    status: str
+    wall_s: float
+
+    def summary(self) -> dict:
+        """The JSON's figures."""
+        handover, person = self.handover, self.person
+        mutual = None if handover is None or handover.mutual is None else int(handover.mutual.sum())
+        return {
+            "status": self.status,
+            "arm_nodes": len(self.arm_nodes),
+            "palm_error_median_m": {"nodes": self.palm_error_nodes_m,
+                                    "random_targets": self.palm_error_random_m},
+            "scene_nodes": len(self.scene_nodes),
+            "person_arm": None if person is None else {
+                "side": person.arm.side, "upper_m": person.arm.upper,
+                "forearm_m": person.arm.forearm, "hand_m": person.arm.hand,
+                "nodes": len(person.nodes)},
+            "mutual_nodes": mutual,
+            "ideal_point": None if handover is None else handover.ideal.tolist(),
+            "handover_point": None if handover is None or handover.point is None
+            else handover.point.tolist(),
+            "handover_base": None if handover is None or handover.q is None
+            else handover.q[:3].tolist(),
+            "wall_s": self.wall_s,
+        }  # fmt: skip
+
+
+def palm_errors(arm_map: ArmEffectivity, seed: int = 1) -> tuple[float, float]:
+    """Eq. 11's median palm error (m) at the map's nodes and at random reachable targets."""
+    targets = palm_position(sample_arm_joints(RANDOM_TARGETS, np.random.default_rng(seed)))
+    return (float(np.median(arm_map.palm_errors(arm_map.nodes))),
+            float(np.median(arm_map.palm_errors(targets))))  # fmt: skip
+
+
+def run_effectivity(scenario: Scenario, watch_s: float = WATCH_S) -> EffectivityResult:
+    """Watch the scenario for `watch_s` (perception on, whatever the file says), then compute
+    the figures from the percepts."""
+    start = time.perf_counter()
+    perception = dataclasses.replace(scenario.perception, enabled=True)
+    scenario = dataclasses.replace(scenario, perception=perception)
+    arm_map, _ = load_or_build()
+    at_nodes, at_random = palm_errors(arm_map)
+    simulation = build_simulation(scenario)
+    simulator = Simulator(simulation.diagram)
+    simulator.AdvanceTo(watch_s)
+    context = simulation.robot_context(simulator.get_context())
+    robot = simulation.robot.diagram
+    scene = robot.GetOutputPort("perceived_scene").Eval(context)
+    skeleton = robot.GetOutputPort("skeleton").Eval(context)
+    graph = robot.GetOutputPort("gng_graph").Eval(context)
+    arms = (perceived_arm(skeleton.points, skeleton.confidence, side) for side in SIDES)
+    arm = next((arm for arm in arms if arm is not None), None)
+    person, handover, status = None, None, "no person seen (both shoulders needed)"
+    if arm is not None:
+        person = PersonEffectivity(arm)
+        planning = PlanningScene(scene)
+        planning.set_positions(simulation.measured_positions(simulator.get_context()))
+        handover = plan_handover_pose(planning, arm_map, person, planning.positions())
+        status = handover.reason
+    return EffectivityResult(arm_map.nodes, arm_map.cells.edges, at_nodes, at_random,
+                             np.asarray(graph.nodes), person, handover, status,
+                             time.perf_counter() - start)  # fmt: skip

@@ -1,0 +1,78 @@
+"""Where the robot stands and holds the object out for the person (issue 9, parts 3 and 5).
+
+The person's effectivity gives the ideal handover point (effectivity.mutual_area's rule). The
+robot faces the person from the front if it can stand there, else turned round the person by
+HANDOVER_TURNS_DEG (the table is usually in front of a seated person); at the first base pose
+that keeps clear, the arm's effectivity map placed there meets the person's range in the mutual
+area, the handover point is the mutual node nearest the ideal, and inverse kinematics, seeded by
+eq. 11 at the ideal point, confirms the hand reaches it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from hsr_handover.effectivity.arm_map import ArmEffectivity
+from hsr_handover.effectivity.mutual_area import handover_point, ideal_handover_point
+from hsr_handover.effectivity.person_map import PersonEffectivity
+from hsr_handover.hsr import BASE_JOINTS, GRIPPER_JOINT
+from hsr_handover.planning.base_placement import place_base
+from hsr_handover.planning.inverse_kinematics import PalmGoal, solve_palm_ik
+from hsr_handover.planning.planning_scene import PlanningScene
+
+HANDOVER_TURNS_DEG = (0.0, 30.0, -30.0, 60.0, -60.0, 90.0, -90.0, 120.0, -120.0)
+NO_MUTUAL_AREA = "no mutual area"
+
+
+@dataclasses.dataclass(frozen=True)
+class HandoverPose:
+    """`ok` with the configuration `q` handing over at `point` (world, m), or not with the
+    `reason`. `robot_nodes` (n, 3, world) is the arm's map at the chosen base and `mutual` the
+    mask of those the person reaches too; `ideal` is the rule's point."""
+
+    ok: bool
+    reason: str
+    ideal: np.ndarray
+    point: np.ndarray | None = None
+    q: np.ndarray | None = None
+    robot_nodes: np.ndarray | None = None
+    mutual: np.ndarray | None = None
+
+
+def nodes_in_world(arm_map: ArmEffectivity, base: np.ndarray) -> np.ndarray:
+    """The arm map's nodes (n, 3) for the base at (x, y, yaw)."""
+    c, s = math.cos(base[2]), math.sin(base[2])
+    rotation = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    return arm_map.nodes @ rotation.T + np.array([base[0], base[1], 0.0])
+
+
+def plan_handover_pose(
+    scene: PlanningScene, arm_map: ArmEffectivity, person: PersonEffectivity, q_now: np.ndarray
+) -> HandoverPose:
+    """The robot's handover configuration from `q_now` (plant positions; the gripper as it
+    holds the object). Never raises: an unreachable person gives `ok` False and why."""
+    ideal = ideal_handover_point(person.arm)
+    facing = -person.arm.frame[:, 0] * np.array([1.0, 1.0, 0.0])
+    facing /= max(np.linalg.norm(facing), 1e-9)
+    table = None if scene.scene.table is None else scene.scene.table.height
+    reason = f"{NO_MUTUAL_AREA}: no base pose clear of the scene reaches the person"
+    for turn in np.radians(HANDOVER_TURNS_DEG):
+        c, s = math.cos(turn), math.sin(turn)
+        approach = np.array([c * facing[0] - s * facing[1], s * facing[0] + c * facing[1], 0.0])
+        closing = np.array([-approach[1], approach[0], 0.0])
+        for placement in place_base(scene, arm_map, ideal, approach, closing, q_now)[:1]:
+            base = placement.q[[scene.index(joint) for joint in BASE_JOINTS]]
+            robot_nodes = nodes_in_world(arm_map, base)
+            point, mutual = handover_point(robot_nodes, person, table, scene.scene.person)
+            if point is None:
+                reason = f"{NO_MUTUAL_AREA}: the areas do not meet where the robot can stand"
+                continue
+            opening = 2 * q_now[scene.index(GRIPPER_JOINT)]
+            result = solve_palm_ik(scene, PalmGoal(point, approach, closing, opening), placement.q)
+            if result.ok:
+                return HandoverPose(True, "ok", ideal, point, result.q, robot_nodes, mutual)
+            reason = f"unreachable: {result.reason} at the handover point"
+    return HandoverPose(False, reason, ideal)
