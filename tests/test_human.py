@@ -104,6 +104,25 @@ def test_a_change_mid_move_carries_the_motion_on_smoothly():
     _smooth_within_peak_speed(PostureTimeline(changes), np.arange(0.0, 5.0, 1e-3))
 
 
+def test_a_change_at_peak_speed_is_planned_not_stretched_forever():
+    """Stretching a move cannot slow the motion carried on from before. In trial 30 of the
+    reference run the hand's lift was at its peak speed, 1.5000000000000002 rad/s, when the
+    stretch began; the timeline stretched the new move without end and the experiment hung."""
+    body = BodyDimensions.from_height(1.600845744351017, seated=True)
+    cup = np.array([0.9508783233633863, 0.22237950277553184, 0.77])
+    aim = np.array([0.9664845393347904, 0.23678015349343867, 0.892533445801095])
+    actions = [
+        Action("look_at", 0.9857820959567596, None, cup, "right", 0.7519602420708945),
+        Action("point_at", 1.7701727388681727, 4.273849718068751, cup, "right",
+               0.7519602420708945, aim),
+    ]  # fmt: skip
+    changes = posture_changes(body, actions)
+    stretch = changes[3][0]
+    carried = PostureTimeline(changes[:3]).evaluate(stretch)[1]
+    assert np.abs(carried).max() >= PEAK_JOINT_SPEED  # a hair above it, in floating point
+    _smooth_within_peak_speed(PostureTimeline(changes), np.arange(0.0, 7.0, 1e-3))
+
+
 def test_the_hand_rises_from_rest_before_it_reaches_out_over_a_table():
     """Seated, the forearm rests at table height: a straight arm swung out from there sweeps
     the hand level into the table's edge (it caught on it in one trial in ten)."""

@@ -30,6 +30,7 @@ ACTIONS = ("rest", "look_at", "point_at", "reach_to", "touch", "gesture")
 REACHES = ("reach_to", "touch")  # the hand goes to a point; "touch" without looking at it
 GESTURE_BEAT_S = 0.6  # s between the arm's turns while gesturing (one minimum move)
 PEAK_JOINT_SPEED = 1.5  # rad/s: brisk but human
+MAX_STRETCHES = 100  # a move is stretched by 5 % at most this often (x131) to keep under the peak
 MIN_MOVE_TIME = 0.6  # s
 # A person lifts a hand from rest before stretching the arm out: the arm first swings to its
 # goal's shoulder angles with the elbow bent this much (rad), and the elbow opens once the
@@ -215,11 +216,15 @@ class _Move:
         origin, velocity, goal = (np.asarray(v, dtype=float) for v in (origin, velocity, goal))
         duration = move_duration(origin, goal)
         _, ds, _, dh = _TAU_PROFILES
-        while True:
+        # Stretching the move slows only its own part: the motion carried on from before is
+        # the body's already, so a body moving at the peak (or a hair above it) stays there.
+        peak = max(PEAK_JOINT_SPEED, float(np.abs(velocity).max(initial=0.0))) + 1e-9
+        for _ in range(MAX_STRETCHES):
             speeds = np.abs(np.outer(ds / duration, goal - origin) + np.outer(dh, velocity))
-            if speeds.max() <= PEAK_JOINT_SPEED:
-                return cls(start, duration, origin, goal, velocity)
+            if speeds.max() <= peak:
+                break
             duration *= 1.05
+        return cls(start, duration, origin, goal, velocity)
 
     def at(self, time: float) -> tuple[np.ndarray, np.ndarray]:
         if self.duration <= 0.0 or time >= self.start + self.duration:
