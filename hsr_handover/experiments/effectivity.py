@@ -10,15 +10,14 @@ import dataclasses
 import time
 
 import numpy as np
-from pydrake.systems.analysis import Simulator
 
 from hsr_handover.effectivity.arm_map import ArmEffectivity, load_or_build
 from hsr_handover.effectivity.person_map import PersonEffectivity, perceived_arm
+from hsr_handover.experiments.watch import watch
 from hsr_handover.kinematics.hsr_arm import palm_position, sample_arm_joints
 from hsr_handover.planning.handover_pose import HandoverPose, plan_handover_pose
 from hsr_handover.planning.planning_scene import PlanningScene
 from hsr_handover.scenario import Scenario
-from hsr_handover.simulation import build_simulation
 
 WATCH_S = 2.0  # s the robot watches before the figures: the table fitted, the person lifted
 RANDOM_TARGETS = 2000  # reachable palm positions for eq. 11's error away from the nodes
@@ -74,25 +73,19 @@ def run_effectivity(scenario: Scenario, watch_s: float = WATCH_S) -> Effectivity
     """Watch the scenario for `watch_s` (perception on, whatever the file says), then compute
     the figures from the percepts."""
     start = time.perf_counter()
-    perception = dataclasses.replace(scenario.perception, enabled=True)
-    scenario = dataclasses.replace(scenario, perception=perception)
     arm_map, _ = load_or_build()
     at_nodes, at_random = palm_errors(arm_map)
-    simulation = build_simulation(scenario)
-    simulator = Simulator(simulation.diagram)
-    simulator.AdvanceTo(watch_s)
-    context = simulation.robot_context(simulator.get_context())
-    robot = simulation.robot.diagram
-    scene = robot.GetOutputPort("perceived_scene").Eval(context)
-    skeleton = robot.GetOutputPort("skeleton").Eval(context)
-    graph = robot.GetOutputPort("gng_graph").Eval(context)
+    watched = watch(scenario, watch_s)
+    scene = watched.percept("perceived_scene")
+    skeleton = watched.percept("skeleton")
+    graph = watched.percept("gng_graph")
     arms = (perceived_arm(skeleton.points, skeleton.confidence, side) for side in SIDES)
     arm = next((arm for arm in arms if arm is not None), None)
     person, handover, status = None, None, "no person seen (both shoulders needed)"
     if arm is not None:
         person = PersonEffectivity(arm)
         planning = PlanningScene(scene)
-        planning.set_positions(simulation.measured_positions(simulator.get_context()))
+        planning.set_positions(watched.measured_positions())
         handover = plan_handover_pose(planning, arm_map, person, planning.positions())
         status = handover.reason
     return EffectivityResult(arm_map.nodes, arm_map.cells.edges, at_nodes, at_random,

@@ -1,7 +1,8 @@
 """The configurations of a grasp (issue 9, part 6): for the first grasp candidate and base
 placement that inverse kinematics confirms, the grasp itself (pads round the target, which
-alone may be touched) and the pre-grasp standing off along the approach (everything avoided),
-the base where it is for both. "unreachable" when none is found, never an exception.
+alone may be touched), the pre-grasp standing off along the approach (everything avoided) and
+the lift (the object held, straight up, the base still). "unreachable" when none is found,
+never an exception.
 """
 
 from __future__ import annotations
@@ -23,14 +24,16 @@ UNREACHABLE = "unreachable"
 
 @dataclasses.dataclass(frozen=True)
 class GraspConfigurations:
-    """`ok` with the `grasp`, `q_pregrasp` and `q_grasp` (plant positions), or not with the
-    `reason`; `ik_solves` tried and their `seconds`."""
+    """`ok` with the `grasp`, `q_pregrasp`, `q_grasp` (open round the object) and `q_lifted`
+    (closed on it, lifted) (plant positions), or not with the `reason`; `ik_solves` tried and
+    their `seconds`."""
 
     ok: bool
     reason: str
     grasp: Grasp | None = None
     q_pregrasp: np.ndarray | None = None
     q_grasp: np.ndarray | None = None
+    q_lifted: np.ndarray | None = None
     ik_solves: int = 0
     seconds: float = 0.0
 
@@ -56,10 +59,13 @@ def grasp_configurations(
                 continue
             before = dataclasses.replace(goal, point=grasp.pregrasp_point)
             at_pregrasp = solve_palm_ik(scene, before, at_grasp.q)
-            solves += 1
-            if at_pregrasp.ok:
-                return GraspConfigurations(True, "ok", grasp, at_pregrasp.q, at_grasp.q, solves,
-                                           time.perf_counter() - start)  # fmt: skip
+            held = dataclasses.replace(goal, point=grasp.lifted_point, opening=grasp.width)
+            lifted = solve_palm_ik(scene, held, at_grasp.q, ignore=(label,), base_fixed=True)
+            solves += 2
+            if at_pregrasp.ok and lifted.ok:
+                seconds = time.perf_counter() - start
+                return GraspConfigurations(True, "ok", grasp, at_pregrasp.q, at_grasp.q,
+                                           lifted.q, solves, seconds)  # fmt: skip
     reason = f"{UNREACHABLE}: no grasp of {label!r} passed inverse kinematics"
     return GraspConfigurations(False, reason, ik_solves=solves,
                                seconds=time.perf_counter() - start)  # fmt: skip

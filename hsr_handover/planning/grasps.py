@@ -19,6 +19,7 @@ from hsr_handover.perception.object_shapes import CYLINDER, ObjectShape
 
 PAD_OFFSET = 0.05  # m, the finger pads' centre beyond the palm frame along its z (the SDF)
 PREGRASP_STANDOFF = 0.10  # m the hand stands back along the approach before closing in
+LIFT_HEIGHT = 0.10  # m the object is lifted straight up once held, before it is carried
 GRIP_CLEARANCE = 0.03  # m of opening beyond the object's width, for the approach
 SIDE_ANGLES_DEG = (0.0, -30.0, 30.0, -60.0, 60.0, -90.0, 90.0, -135.0, 135.0, 180.0)
 GRIP_HEIGHT = 0.5  # of the object's height: where side grasps hold it, unless too low:
@@ -47,6 +48,11 @@ class Grasp:
     def pregrasp_point(self) -> np.ndarray:
         """Where the pads' centre waits before closing in (m, world)."""
         return self.point - PREGRASP_STANDOFF * self.approach
+
+    @property
+    def lifted_point(self) -> np.ndarray:
+        """Where the pads' centre holds the object once lifted off the table (m, world)."""
+        return self.point + np.array([0.0, 0.0, LIFT_HEIGHT])
 
 
 def _horizontal(angle: float) -> np.ndarray:

@@ -49,20 +49,51 @@ def nodes_in_world(arm_map: ArmEffectivity, base: np.ndarray) -> np.ndarray:
     return arm_map.nodes @ rotation.T + np.array([base[0], base[1], 0.0])
 
 
-def plan_handover_pose(
-    scene: PlanningScene, arm_map: ArmEffectivity, person: PersonEffectivity, q_now: np.ndarray
+def unseeded_handover_pose(
+    scene: PlanningScene,
+    person: PersonEffectivity,
+    q_now: np.ndarray,
+    ignore: tuple[str, ...] = (),
 ) -> HandoverPose:
-    """The robot's handover configuration from `q_now` (plant positions; the gripper as it
-    holds the object). Never raises: an unreachable person gives `ok` False and why."""
+    """The baseline without the arm's map: the hand at the rule's ideal point, the base a
+    fixed reach from it, facing the person or turned round them, IK from the arm as it is."""
     ideal = ideal_handover_point(person.arm)
+    opening = 2 * q_now[scene.index(GRIPPER_JOINT)]
+    reason = f"{NO_MUTUAL_AREA}: no base pose clear of the scene reaches the person"
+    for approach, closing in _approaches(person):
+        for placement in place_base(scene, None, ideal, approach, closing, q_now):
+            goal = PalmGoal(ideal, approach, closing, opening)
+            result = solve_palm_ik(scene, goal, placement.q, ignore=ignore)
+            if result.ok:
+                return HandoverPose(True, "ok", ideal, ideal, result.q)
+            reason = f"unreachable: {result.reason} at the handover point"
+    return HandoverPose(False, reason, ideal)
+
+
+def _approaches(person: PersonEffectivity):
+    """The hand's horizontal approach and closing axes, facing the person first."""
     facing = -person.arm.frame[:, 0] * np.array([1.0, 1.0, 0.0])
     facing /= max(np.linalg.norm(facing), 1e-9)
-    table = None if scene.scene.table is None else scene.scene.table.height
-    reason = f"{NO_MUTUAL_AREA}: no base pose clear of the scene reaches the person"
     for turn in np.radians(HANDOVER_TURNS_DEG):
         c, s = math.cos(turn), math.sin(turn)
         approach = np.array([c * facing[0] - s * facing[1], s * facing[0] + c * facing[1], 0.0])
-        closing = np.array([-approach[1], approach[0], 0.0])
+        yield approach, np.array([-approach[1], approach[0], 0.0])
+
+
+def plan_handover_pose(
+    scene: PlanningScene,
+    arm_map: ArmEffectivity,
+    person: PersonEffectivity,
+    q_now: np.ndarray,
+    ignore: tuple[str, ...] = (),
+) -> HandoverPose:
+    """The robot's handover configuration from `q_now` (plant positions; the gripper as it
+    holds the object), clear of all but `ignore` (the object held). Never raises: an
+    unreachable person gives `ok` False and why."""
+    ideal = ideal_handover_point(person.arm)
+    table = None if scene.scene.table is None else scene.scene.table.height
+    reason = f"{NO_MUTUAL_AREA}: no base pose clear of the scene reaches the person"
+    for approach, closing in _approaches(person):
         for placement in place_base(scene, arm_map, ideal, approach, closing, q_now)[:1]:
             base = placement.q[[scene.index(joint) for joint in BASE_JOINTS]]
             robot_nodes = nodes_in_world(arm_map, base)
@@ -71,7 +102,8 @@ def plan_handover_pose(
                 reason = f"{NO_MUTUAL_AREA}: the areas do not meet where the robot can stand"
                 continue
             opening = 2 * q_now[scene.index(GRIPPER_JOINT)]
-            result = solve_palm_ik(scene, PalmGoal(point, approach, closing, opening), placement.q)
+            goal = PalmGoal(point, approach, closing, opening)
+            result = solve_palm_ik(scene, goal, placement.q, ignore=ignore)
             if result.ok:
                 return HandoverPose(True, "ok", ideal, point, result.q, robot_nodes, mutual)
             reason = f"unreachable: {result.reason} at the handover point"

@@ -18,6 +18,7 @@ from pydrake.solvers import Solve
 from hsr_handover.hsr import BASE_JOINTS, GRIPPER_JOINT, HEAD_JOINTS, PALM_FRAME
 from hsr_handover.planning.grasps import PAD_OFFSET
 from hsr_handover.planning.planning_scene import PlanningScene
+from hsr_handover.planning.solving import solved
 
 MIN_DISTANCE = 0.02  # m from every obstacle at an IK solution
 POINT_TOLERANCE = 0.005  # m, each axis, the pads' centre from its target
@@ -65,9 +66,10 @@ def solve_palm_ik(
     with scene.ignoring(ignore):
         ik = _build(scene, goal, seed, base_fixed, min_distance)
         result = Solve(ik.prog(), seed)
+        usable = solved(ik.prog(), result)
     q = result.GetSolution(ik.q())
     seconds = time.perf_counter() - start
-    if not result.is_success():
+    if not usable:
         return IkResult(False, q, f"no IK solution ({result.get_solver_id().name()} "
                                   f"{result.get_solution_result().name})", seconds)  # fmt: skip
     return IkResult(True, q, "ok", seconds)

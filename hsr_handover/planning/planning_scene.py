@@ -2,7 +2,8 @@
 geometry, what the robot perceives (DESIGN §3.4). Never the simulation's plant: that is truth.
 
 The table is a solid block from the floor to its fitted top (the camera cannot see under it,
-so no plan goes there); each object a cylinder or box; the person a capsule per bone. The HSR's
+so no plan goes there); each object a cylinder or box; the person a capsule per bone. Table and
+objects are widened by SOLID_MARGIN, the person's capsules by their own margin. The HSR's
 own links do not collide with one another here: the arm's joint limits keep it off its body.
 """
 
@@ -42,20 +43,24 @@ from hsr_handover.planning.perceived_scene import Capsule, PerceivedScene
 PLANNING_TIME_STEP = 0.01  # s: the HSR's mimic couplings need a discrete plant; never stepped
 TABLE, PERSON = "table", "person"
 NEAR = 0.5  # m: distances beyond this are not computed
+SOLID_MARGIN = 0.01
+"""m added round the table's and each object's sides and top: the fits are good to about a
+centimetre, and a box's back, hidden from the camera, can be 2 cm deeper than it is seen."""
 
 
 def _table_block(table: TableEstimate) -> tuple[Shape, RigidTransform]:
-    pose = RigidTransform(
-        RotationMatrix.MakeZRotation(table.yaw), [*table.center, table.height / 2]
-    )
-    return Box(table.size[0], table.size[1], table.height), pose
+    height = table.height + SOLID_MARGIN
+    pose = RigidTransform(RotationMatrix.MakeZRotation(table.yaw), [*table.center, height / 2])
+    return Box(*(table.size + 2 * SOLID_MARGIN), height), pose
 
 
 def _object_solid(shape: ObjectShape) -> tuple[Shape, RigidTransform]:
-    pose = RigidTransform(RotationMatrix.MakeZRotation(shape.yaw), shape.centroid)
+    height = shape.height + SOLID_MARGIN
+    center = [*shape.center, shape.bottom + height / 2]
+    pose = RigidTransform(RotationMatrix.MakeZRotation(shape.yaw), center)
     if shape.kind == CYLINDER:
-        return Cylinder(shape.radius, shape.height), pose
-    return Box(shape.size[0], shape.size[1], shape.height), pose
+        return Cylinder(shape.radius + SOLID_MARGIN, height), pose
+    return Box(*(shape.size + 2 * SOLID_MARGIN), height), pose
 
 
 def _capsule_solid(capsule: Capsule) -> tuple[Shape, RigidTransform]:

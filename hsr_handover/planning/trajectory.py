@@ -19,10 +19,15 @@ from pydrake.planning import KinematicTrajectoryOptimization
 from pydrake.solvers import Solve
 from pydrake.trajectories import BsplineTrajectory
 
-from hsr_handover.hsr import HEAD_JOINTS
+from hsr_handover.hsr import BASE_JOINTS, HEAD_JOINTS
 from hsr_handover.planning.planning_scene import PlanningScene
+from hsr_handover.planning.solving import solved
 
 CONTROL_POINTS = 10
+ROUTE_CONTROL_POINTS = 16  # for a way round the table
+STOWED = {"arm_lift_joint": 0.0, "torso_lift_joint": 0.0, "arm_flex_joint": 0.0,
+          "arm_roll_joint": 0.0, "wrist_flex_joint": -1.57, "wrist_roll_joint": 0.0}  # fmt: skip
+"""The arm folded over the base, the hand tucked (the ready posture): how the base drives."""
 COLLISION_SAMPLES = 30
 COLLISION_BOUND = 0.013  # m at the samples: about 1 cm everywhere between them
 INFLUENCE = 0.05  # m beyond the bound where distances start to count
@@ -46,6 +51,32 @@ def straight_guess(q_start: np.ndarray, q_goal: np.ndarray, count: int = CONTROL
     return np.linspace(q_start, q_goal, count).T
 
 
+def route_guess(
+    scene: PlanningScene,
+    q_start: np.ndarray,
+    q_goal: np.ndarray,
+    route: np.ndarray,
+    count: int = ROUTE_CONTROL_POINTS,
+) -> np.ndarray:
+    """Control points (nq, count) that fold the arm, drive the base through the `route`'s
+    points (k, 2) and unfold the arm at the goal, evenly spaced along that way in joint space."""
+    stowed_start, stowed_goal = q_start.copy(), q_goal.copy()
+    for q in (stowed_start, stowed_goal):
+        for joint, value in STOWED.items():
+            q[scene.index(joint)] = value
+    x, y, yaw = (scene.index(joint) for joint in BASE_JOINTS)
+    keys = [q_start, stowed_start]
+    for k, point in enumerate(route[1:-1], start=1):
+        q = stowed_start + (stowed_goal - stowed_start) * k / (len(route) - 1)
+        q[x], q[y] = point
+        keys.append(q)
+    keys += [stowed_goal, q_goal]
+    keys = np.array(keys)
+    along = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(keys, axis=0), axis=1))])
+    spots = np.linspace(0.0, along[-1], count)
+    return np.array([np.interp(spots, along, keys[:, i]) for i in range(keys.shape[1])])
+
+
 def optimize_path(
     scene: PlanningScene,
     q_start: np.ndarray,
@@ -54,26 +85,27 @@ def optimize_path(
     ignore: tuple[str, ...] = (),
 ) -> PathResult:
     """The path from `q_start` to `q_goal` (plant positions), starting from the control points
-    `guess` (nq, CONTROL_POINTS; the straight line when None). Never raises for an
-    infeasible problem: `ok` is False and `reason` says why."""
+    `guess` (nq, any count; the straight line through CONTROL_POINTS when None). Never raises
+    for an infeasible problem: `ok` is False and `reason` says why."""
     start = time.perf_counter()
     guess = straight_guess(q_start, q_goal) if guess is None else guess
     with scene.ignoring(ignore):
-        trajopt, constraint = _build(scene, q_start, q_goal)
+        trajopt, constraint = _build(scene, q_start, q_goal, guess.shape[1])
         trajopt.SetInitialGuess(BsplineTrajectory(trajopt.basis(), guess * 1.0))
         result = Solve(trajopt.prog())
+        usable = solved(trajopt.prog(), result)
         del constraint  # the solve is done; the constraint held the plant context
     seconds = time.perf_counter() - start
-    if not result.is_success():
+    if not usable:
         reason = f"no path ({result.get_solver_id().name()} {result.get_solution_result().name})"
         return PathResult(False, reason, None, seconds)
     return PathResult(True, "ok", trajopt.ReconstructTrajectory(result), seconds)
 
 
-def _build(scene: PlanningScene, q_start: np.ndarray, q_goal: np.ndarray):
+def _build(scene: PlanningScene, q_start: np.ndarray, q_goal: np.ndarray, control_points: int):
     plant = scene.plant
     nq = plant.num_positions()
-    trajopt = KinematicTrajectoryOptimization(nq, CONTROL_POINTS)
+    trajopt = KinematicTrajectoryOptimization(nq, control_points)
     prog = trajopt.get_mutable_prog()
     trajopt.AddDurationCost(1.0)
     trajopt.AddPathLengthCost(1.0)

@@ -15,11 +15,13 @@ from hsr_handover.hsr import BASE_JOINTS, PALM_FRAME
 from hsr_handover.perception.object_shapes import CYLINDER, ObjectShape
 from hsr_handover.perception.table_fit import TableEstimate
 from hsr_handover.planning.grasp_configurations import UNREACHABLE, grasp_configurations
-from hsr_handover.planning.grasps import PAD_OFFSET
+from hsr_handover.planning.grasps import LIFT_HEIGHT, PAD_OFFSET
 from hsr_handover.planning.handover_pose import NO_MUTUAL_AREA, plan_handover_pose
 from hsr_handover.planning.inverse_kinematics import MIN_DISTANCE, PalmGoal, solve_palm_ik
 from hsr_handover.planning.perceived_scene import Capsule, PerceivedScene
+from hsr_handover.planning.planner import STAGES, plan_grasp, plan_handover, timed_clearance
 from hsr_handover.planning.planning_scene import PlanningScene
+from hsr_handover.planning.timing import joint_limits
 from hsr_handover.planning.trajectory import COLLISION_BOUND, optimize_path
 
 TABLE_TOP = 0.72
@@ -45,6 +47,12 @@ def arm_map():
     return load_or_build()[0]
 
 
+def _ready(scene: PlanningScene) -> np.ndarray:
+    """The robot at the origin, every joint at 0 (the module's scene is shared by the tests)."""
+    scene.set_positions({})
+    return scene.positions()
+
+
 def _pads(scene: PlanningScene, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     scene.plant.SetPositions(scene.plant_context, q)
     palm = scene.plant.GetFrameByName(PALM_FRAME).CalcPoseInWorld(scene.plant_context)
@@ -53,7 +61,7 @@ def _pads(scene: PlanningScene, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 @pytest.mark.parametrize("label", CUPS)
 def test_each_cup_gets_a_grasp_clear_of_all_but_itself(scene, arm_map, label):
-    q_now = scene.positions()
+    q_now = _ready(scene)
     result = grasp_configurations(scene, arm_map, label, q_now)
     assert result.ok, result.reason
     grasp = result.grasp
@@ -66,6 +74,9 @@ def test_each_cup_gets_a_grasp_clear_of_all_but_itself(scene, arm_map, label):
     np.testing.assert_allclose(A @ result.q_grasp, b, atol=1e-6)
     pads, _ = _pads(scene, result.q_pregrasp)
     assert np.all(np.abs(pads - grasp.pregrasp_point) <= 0.0051)
+    lifted, _ = _pads(scene, result.q_lifted)
+    assert np.all(np.abs(lifted - grasp.lifted_point) <= 0.0051)
+    np.testing.assert_allclose(result.q_lifted[:3], result.q_grasp[:3])  # the base stays
     assert scene.clearance()[0] >= MIN_DISTANCE - 1e-3  # the target too, before closing in
     base = result.q_grasp[[scene.index(joint) for joint in BASE_JOINTS[:2]]]
     assert np.linalg.norm(base - q_now[:2]) > 0.1  # the cups are out of reach from the start
@@ -78,21 +89,21 @@ def test_a_cup_above_any_reach_is_unreachable_not_an_error(scene, arm_map):
     result = grasp_configurations(shelf, arm_map, "high", shelf.positions())
     assert not result.ok and result.reason.startswith(UNREACHABLE)
     assert result.ik_solves == 0  # the map said so before any solve
-    missing = grasp_configurations(scene, arm_map, "purple", scene.positions())
+    missing = grasp_configurations(scene, arm_map, "purple", _ready(scene))
     assert not missing.ok and "purple" in missing.reason
 
 
 def test_inverse_kinematics_refuses_a_goal_inside_the_table(scene):
     goal = PalmGoal(np.array([0.8, 0.4, TABLE_TOP - 0.05]), np.array([1.0, 0, 0]),
                     np.array([0, 1.0, 0]), 0.1)  # fmt: skip
-    result = solve_palm_ik(scene, goal, scene.positions())
+    result = solve_palm_ik(scene, goal, _ready(scene))
     assert not result.ok and "no IK solution" in result.reason
     nan = solve_palm_ik(scene, dataclasses.replace(goal, point=np.full(3, np.nan)), result.q)
     assert not nan.ok and "non-finite" in nan.reason
 
 
 def test_the_optimised_path_keeps_clear_at_its_samples_and_joins_its_ends(scene, arm_map):
-    q_now = scene.positions()
+    q_now = _ready(scene)
     target = grasp_configurations(scene, arm_map, "green", q_now)
     result = optimize_path(scene, q_now, target.q_pregrasp)
     assert result.ok, result.reason
@@ -110,7 +121,7 @@ def test_the_handover_pose_meets_the_person_at_a_mutual_node(scene, arm_map):
     shoulder = np.array([1.75, 0.19, 1.03])
     frame = np.column_stack([[-1.0, 0, 0], [0, -1.0, 0], [0, 0, 1.0]])  # facing the robot
     person = PersonEffectivity(HumanArm("r", shoulder, frame, 0.30, 0.25, 0.09))
-    pose = plan_handover_pose(scene, arm_map, person, scene.positions())
+    pose = plan_handover_pose(scene, arm_map, person, _ready(scene))
     assert pose.ok, pose.reason
     assert pose.mutual[np.flatnonzero(np.all(pose.robot_nodes == pose.point, axis=1))].all()
     assert person.reachable(pose.point[None])[0]
@@ -126,5 +137,36 @@ def test_the_handover_pose_meets_the_person_at_a_mutual_node(scene, arm_map):
 def test_a_person_out_of_every_reach_has_no_mutual_area(scene, arm_map):
     frame = np.column_stack([[-1.0, 0, 0], [0, -1.0, 0], [0, 0, 1.0]])
     tiny = HumanArm("r", np.array([1.75, 0.19, 3.5]), frame, 0.1, 0.1, 0.05)  # 3.5 m up
-    pose = plan_handover_pose(scene, arm_map, PersonEffectivity(tiny), scene.positions())
+    pose = plan_handover_pose(scene, arm_map, PersonEffectivity(tiny), _ready(scene))
     assert not pose.ok and pose.reason.startswith(NO_MUTUAL_AREA)
+
+
+def test_a_grasp_plan_is_timed_and_clear_every_10_ms(scene, arm_map):
+    limits = joint_limits(scene.plant)
+    plan = plan_grasp(scene, arm_map, "blue", _ready(scene), limits)
+    assert plan.ok, plan.reason
+    assert [motion.name for motion in plan.motions] == ["move", "approach", "lift"]
+    assert [motion.ignore for motion in plan.motions] == [(), ("blue",), ("blue",)]
+    assert set(plan.seconds) == set(STAGES) and plan.plan_seconds > 0
+    assert 1.0 < plan.duration < 15.0
+    for motion in plan.motions:
+        assert timed_clearance(scene, motion) >= COLLISION_BOUND - 0.012
+    _, positions = plan.motions[2].timed.sample(0.01)
+    np.testing.assert_allclose(positions[-1], plan.goal, atol=1e-6)
+    lifted, _ = _pads(scene, plan.goal)
+    grasped, _ = _pads(scene, plan.motions[1].timed.sample(0.01)[1][-1])
+    np.testing.assert_allclose(lifted - grasped, [0, 0, LIFT_HEIGHT], atol=0.011)
+    # Then, holding the cup, to the person: a carry round the table into the mutual area.
+    shoulder = np.array([1.75, 0.19, 1.03])
+    frame = np.column_stack([[-1.0, 0, 0], [0, -1.0, 0], [0, 0, 1.0]])
+    person = PersonEffectivity(HumanArm("r", shoulder, frame, 0.30, 0.25, 0.09))
+    handover = plan_handover(scene, arm_map, person, plan.goal, limits, holding="blue")
+    assert handover.ok, handover.reason
+    (carry,) = handover.motions
+    assert carry.name == "carry" and carry.ignore == ("blue",)
+    assert timed_clearance(scene, carry) >= COLLISION_BOUND - 0.012
+
+
+def test_an_unreachable_target_plans_nothing_and_says_why(scene, arm_map):
+    plan = plan_grasp(scene, arm_map, "purple", _ready(scene), joint_limits(scene.plant))
+    assert not plan.ok and plan.motions == () and "purple" in plan.reason

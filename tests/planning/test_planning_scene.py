@@ -10,7 +10,7 @@ import pytest
 from hsr_handover.perception.object_shapes import CYLINDER, ObjectShape
 from hsr_handover.perception.table_fit import TableEstimate
 from hsr_handover.planning.perceived_scene import Capsule, PerceivedScene
-from hsr_handover.planning.planning_scene import PERSON, TABLE, PlanningScene
+from hsr_handover.planning.planning_scene import PERSON, SOLID_MARGIN, TABLE, PlanningScene
 
 TABLE_TOP = 0.72
 TABLE_NEAR_EDGE = 0.6  # m ahead of the robot's base
@@ -38,9 +38,14 @@ def test_every_percept_becomes_named_collision_geometry(scene):
     assert set(scene.geometry) == {TABLE, "red", PERSON}
     inspector = scene.query().inspector()
     (table,) = scene.geometry[TABLE]
-    np.testing.assert_allclose(inspector.GetShape(table).size(), [0.6, 1.0, TABLE_TOP])
-    # The block stands on the floor: its top is the table's top.
-    assert inspector.GetPoseInFrame(table).translation()[2] == pytest.approx(TABLE_TOP / 2)
+    margin = SOLID_MARGIN
+    size = [0.6 + 2 * margin, 1.0 + 2 * margin, TABLE_TOP + margin]
+    np.testing.assert_allclose(inspector.GetShape(table).size(), size)
+    # The block stands on the floor: its top is the table's top, and a margin.
+    center = inspector.GetPoseInFrame(table).translation()[2]
+    assert center == pytest.approx((TABLE_TOP + margin) / 2)
+    (cup,) = scene.geometry["red"]
+    assert inspector.GetShape(cup).radius() == pytest.approx(0.035 + margin)
 
 
 def test_clearance_follows_the_base_toward_the_table(scene):

@@ -1,0 +1,177 @@
+"""Plan from what the robot perceives (issue 9, parts 5-7). A grasp: its configurations by
+inverse kinematics (base placed by the arm's effectivity map), the move to the pre-grasp by
+trajectory optimisation, the approach along a straight line in joint space when it is clear
+(optimised otherwise). A handover: the pose in the mutual area, the carry there optimised.
+Each path is timed by toppra within the joints' limits.
+
+Every stage's wall time is kept, so the planning benchmark reports where the time goes.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+
+import numpy as np
+from pydrake.math import BsplineBasis
+from pydrake.trajectories import BsplineTrajectory
+
+from hsr_handover.effectivity.arm_map import ArmEffectivity
+from hsr_handover.effectivity.person_map import PersonEffectivity
+from hsr_handover.hsr import BASE_JOINTS, GRIPPER_JOINT, GRIPPER_MIMIC_JOINT
+from hsr_handover.planning.base_route import route_around
+from hsr_handover.planning.grasp_configurations import grasp_configurations
+from hsr_handover.planning.handover_pose import plan_handover_pose, unseeded_handover_pose
+from hsr_handover.planning.planning_scene import PlanningScene
+from hsr_handover.planning.timing import JointLimits, TimedPath, time_path
+from hsr_handover.planning.trajectory import (
+    COLLISION_BOUND,
+    COLLISION_SAMPLES,
+    CONTROL_POINTS,
+    optimize_path,
+    route_guess,
+    straight_guess,
+)
+
+STAGES = ("ik", "optimisation", "timing")
+HANDOVER = "handover"  # a handover plan's target
+STRAIGHT_LEGS = ("approach", "lift")  # short moves of the hand: a straight line when clear
+CHECK_STEP = 0.01  # s between clearance checks of a timed trajectory
+
+
+@dataclasses.dataclass(frozen=True)
+class Motion:
+    """One timed segment: `name` ("move" to the pre-grasp, "approach" to the grasp, "lift" off
+    the table, "carry" to the handover), the obstacles it may touch (`ignore`), and the timed
+    path."""
+
+    name: str
+    ignore: tuple[str, ...]
+    timed: TimedPath
+
+
+@dataclasses.dataclass(frozen=True)
+class Plan:
+    """`ok` with the `motions` ending at the configuration `goal`, or not with the `reason`;
+    the wall `seconds` of each of STAGES and the IK solves tried."""
+
+    ok: bool
+    reason: str
+    target: str
+    motions: tuple[Motion, ...] = ()
+    seconds: dict[str, float] = dataclasses.field(default_factory=dict)
+    ik_solves: int = 0
+    goal: np.ndarray | None = None
+
+    @property
+    def duration(self) -> float:
+        """s the motions take, end to end."""
+        return sum(motion.timed.duration for motion in self.motions)
+
+    @property
+    def plan_seconds(self) -> float:
+        return sum(self.seconds.values())
+
+
+def plan_grasp(
+    scene: PlanningScene,
+    arm_map: ArmEffectivity | None,
+    label: str,
+    q_now: np.ndarray,
+    limits: JointLimits,
+) -> Plan:
+    """Plan the robot from `q_now` (plant positions) to grasping the perceived object `label`:
+    a move to the pre-grasp, the approach, and (the gripper closed) the lift. With `arm_map`
+    None the base and the arm are not seeded by the effectivity map (the benchmark's
+    baseline). Never raises for a target it cannot reach: `reason` says why."""
+    found = grasp_configurations(scene, arm_map, label, q_now)
+    seconds = dict.fromkeys(STAGES, 0.0) | {"ik": found.seconds}
+    if not found.ok:
+        return Plan(False, found.reason, label, seconds=seconds, ik_solves=found.ik_solves)
+    closed = found.q_grasp.copy()  # the gripper closes on the object between the legs
+    closed[scene.index(GRIPPER_JOINT)] = found.q_lifted[scene.index(GRIPPER_JOINT)]
+    closed[scene.index(GRIPPER_MIMIC_JOINT)] = found.q_lifted[scene.index(GRIPPER_MIMIC_JOINT)]
+    legs = (("move", (), q_now, found.q_pregrasp),
+            ("approach", (label,), found.q_pregrasp, found.q_grasp),
+            ("lift", (label,), closed, found.q_lifted))  # fmt: skip
+    return _plan_legs(scene, label, legs, limits, seconds, found.ik_solves)
+
+
+def plan_handover(
+    scene: PlanningScene,
+    arm_map: ArmEffectivity | None,
+    person: PersonEffectivity,
+    q_now: np.ndarray,
+    limits: JointLimits,
+    holding: str = "",
+) -> Plan:
+    """Plan the robot from `q_now`, holding the perceived object `holding` (which no longer
+    counts as an obstacle), to handing it over in the mutual area. With `arm_map` None (the
+    baseline) the hand goes to the rule's ideal point, IK starting from the arm as it is.
+    Never raises: an unreachable person gives `reason`."""
+    start = time.perf_counter()
+    held = (holding,) if holding else ()
+    if arm_map is None:
+        pose = unseeded_handover_pose(scene, person, q_now, held)
+    else:
+        pose = plan_handover_pose(scene, arm_map, person, q_now, held)
+    seconds = dict.fromkeys(STAGES, 0.0) | {"ik": time.perf_counter() - start}
+    if not pose.ok:
+        return Plan(False, pose.reason, HANDOVER, seconds=seconds)
+    leg = ("carry", held, q_now, pose.q)
+    return _plan_legs(scene, HANDOVER, (leg,), limits, seconds, 1)
+
+
+def _plan_legs(scene, target, legs, limits, seconds, ik_solves) -> Plan:
+    """Path and timing for each (name, ignore, q_from, q_to) leg in turn."""
+    motions = []
+    for name, ignore, q_from, q_to in legs:
+        start = time.perf_counter()
+        path, reason = _path(scene, q_from, q_to, ignore, straight=name in STRAIGHT_LEGS)
+        seconds["optimisation"] += time.perf_counter() - start
+        if path is None:
+            return Plan(False, f"{name}: {reason}", target, seconds=seconds, ik_solves=ik_solves)
+        start = time.perf_counter()
+        timed = time_path(path, limits)
+        seconds["timing"] += time.perf_counter() - start
+        if not timed.ok:
+            return Plan(False, f"{name}: {timed.reason}", target, seconds=seconds,
+                        ik_solves=ik_solves)  # fmt: skip
+        motions.append(Motion(name, ignore, timed))
+    return Plan(True, "ok", target, tuple(motions), seconds, ik_solves, legs[-1][3])
+
+
+def _path(scene, q_from, q_to, ignore, straight: bool):
+    """A straight line when asked for and clear, else an optimised path from the straight line,
+    else one from the way round the table; (None, why) if none."""
+    if straight:
+        line = BsplineTrajectory(BsplineBasis(4, CONTROL_POINTS), straight_guess(q_from, q_to))
+        if path_clearance(scene, line, ignore, COLLISION_SAMPLES) >= COLLISION_BOUND:
+            return line, "ok"
+    result = optimize_path(scene, q_from, q_to, ignore=ignore)
+    if result.ok:
+        return result.path, result.reason
+    base = [scene.index(joint) for joint in BASE_JOINTS[:2]]
+    route = route_around(q_from[base], q_to[base], scene.scene.table)
+    guess = route_guess(scene, q_from, q_to, route)
+    detour = optimize_path(scene, q_from, q_to, guess, ignore=ignore)
+    return detour.path, detour.reason if detour.ok else f"{result.reason}; round: {detour.reason}"
+
+
+def path_clearance(scene: PlanningScene, path, ignore: tuple[str, ...], samples: int) -> float:
+    """The least clearance (m) at `samples` evenly spaced times along a path or trajectory with
+    `value(t)` and `start_time()`, `end_time()`."""
+    times = np.linspace(path.start_time(), path.end_time(), samples)
+    return min(_clearance_at(scene, path.value(t).ravel(), ignore) for t in times)
+
+
+def timed_clearance(scene: PlanningScene, motion: Motion, step: float = CHECK_STEP) -> float:
+    """The least clearance (m) of a timed motion checked every `step` s (DESIGN §6: the
+    optimiser's samples alone let the path dip between them)."""
+    times, positions = motion.timed.sample(step)
+    return min(_clearance_at(scene, q, motion.ignore) for q in positions)
+
+
+def _clearance_at(scene: PlanningScene, q: np.ndarray, ignore: tuple[str, ...]) -> float:
+    scene.plant.SetPositions(scene.plant_context, q)
+    return scene.clearance(ignore)[0]

@@ -1,0 +1,53 @@
+"""Scoring plans against the world as it truly is: the station's own geometry."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from pydrake.multibody.parsing import Parser
+from pydrake.multibody.plant import MultibodyPlant
+
+from hsr_handover.experiments.true_clearance import TrueClearance
+from hsr_handover.hsr import add_hsr
+from hsr_handover.scenario import load_scenario
+from hsr_handover.station import build_station
+from tests.conftest import SCENARIOS
+
+
+@pytest.fixture(scope="module")
+def truth():
+    station = build_station(load_scenario(SCENARIOS / "intent_reference.yaml"))
+    plant = MultibodyPlant(0.01)
+    robot = add_hsr(plant, Parser(plant))
+    plant.Finalize()
+    joints = sorted((plant.get_joint(i) for i in plant.GetJointIndices(robot)
+                     if plant.get_joint(i).num_positions() == 1),
+                    key=lambda joint: joint.position_start())  # fmt: skip
+    names = [joint.name() for joint in joints]
+    return TrueClearance(station, station.diagram.CreateDefaultContext(), names), names
+
+
+def test_the_true_table_is_where_the_scenario_puts_it(truth):
+    clearance, names = truth
+    q = np.zeros(len(names))
+    q[names.index("wrist_flex_joint")] = -1.57  # the hand tucked, as the robot stands ready
+    far, nearest = clearance(q)
+    assert nearest == "table" and far > 0.1
+    q[names.index("base_x_joint")] = 0.05
+    closer, _ = clearance(q)
+    assert closer == pytest.approx(far - 0.05, abs=2e-3)
+    q[names.index("base_x_joint")] = far + 0.03
+    inside, nearest = clearance(q)
+    assert nearest == "table" and inside < 0  # penetration: the shortest way out
+
+
+def test_an_ignored_object_is_left_out(truth):
+    clearance, names = truth
+    q = np.zeros(len(names))
+    # The hand among the cups: the green cup at (0.80, 0) is nearest unless ignored.
+    for joint, value in {"base_x_joint": 0.22, "base_y_joint": -0.078, "arm_lift_joint": 0.45,
+                         "arm_flex_joint": -1.57, "wrist_flex_joint": -0.1}.items():  # fmt: skip
+        q[names.index(joint)] = value
+    touching, nearest = clearance(q)
+    ignored, other = clearance(q, ignore=("green_cup",))
+    assert nearest == "green_cup" and other != "green_cup" and ignored > touching
