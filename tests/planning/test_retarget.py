@@ -6,12 +6,9 @@ import dataclasses
 
 import numpy as np
 import pytest
-from pydrake.multibody.parsing import Parser
-from pydrake.multibody.plant import MultibodyPlant
 
-from hsr_handover.hsr import add_hsr
 from hsr_handover.planning.retarget import JERK_PER_ACCELERATION, retarget
-from hsr_handover.planning.timing import JointLimits, joint_limits
+from tests.planning.conftest import configuration
 
 STEP = 0.01  # s between the samples the limits are checked on
 START = {"arm_lift_joint": 0.2, "torso_lift_joint": 0.1, "arm_flex_joint": -0.5,
@@ -22,26 +19,6 @@ MOVING = {"base_x_joint": 0.1, "arm_lift_joint": 0.1, "torso_lift_joint": 0.05,
 ACCELERATING = {"arm_flex_joint": -0.8, "wrist_flex_joint": 1.0}  # rad/s^2
 GOAL = {"base_x_joint": 0.3, "arm_lift_joint": 0.5, "torso_lift_joint": 0.25,
         "arm_flex_joint": -1.0, "wrist_flex_joint": -0.6, "head_tilt_joint": -0.3}  # fmt: skip
-
-
-@pytest.fixture(scope="module")
-def plant() -> MultibodyPlant:
-    plant = MultibodyPlant(0.01)
-    add_hsr(plant, Parser(plant))
-    plant.Finalize()
-    return plant
-
-
-@pytest.fixture(scope="module")
-def limits(plant) -> JointLimits:
-    return joint_limits(plant)
-
-
-def _vector(plant, values: dict[str, float]) -> np.ndarray:
-    vector = np.zeros(plant.num_positions())
-    for joint, value in values.items():
-        vector[plant.GetJointByName(joint).position_start()] = value
-    return vector
 
 
 def _index(plant, joint: str) -> int:
@@ -55,8 +32,8 @@ def _states(motion) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def test_from_a_moving_state_it_carries_on_smoothly_to_the_new_goal(plant, limits):
-    position, velocity = _vector(plant, START), _vector(plant, MOVING)
-    acceleration, goal = _vector(plant, ACCELERATING), _vector(plant, GOAL)
+    position, velocity = configuration(plant, START), configuration(plant, MOVING)
+    acceleration, goal = configuration(plant, ACCELERATING), configuration(plant, GOAL)
     motion = retarget(position, velocity, acceleration, goal, limits)
     assert motion.ok, motion.reason
     start, end = motion.at(0.0), motion.at(motion.duration)
@@ -77,8 +54,9 @@ def test_from_a_moving_state_it_carries_on_smoothly_to_the_new_goal(plant, limit
 
 def test_the_torso_keeps_to_half_the_arm_lift(plant, limits):
     """The torso's limits, state and goal are half the arm lift's, so is its whole motion."""
-    motion = retarget(_vector(plant, START), _vector(plant, MOVING), np.zeros(len(limits.lower)),
-                      _vector(plant, GOAL), limits)  # fmt: skip
+    start, moving = configuration(plant, START), configuration(plant, MOVING)
+    still = np.zeros(len(limits.lower))
+    motion = retarget(start, moving, still, configuration(plant, GOAL), limits)
     assert motion.ok, motion.reason
     positions, _, _ = _states(motion)
     torso, lift = _index(plant, "torso_lift_joint"), _index(plant, "arm_lift_joint")
@@ -86,9 +64,9 @@ def test_the_torso_keeps_to_half_the_arm_lift(plant, limits):
 
 
 def test_it_can_arrive_moving(plant, limits):
-    arrive = _vector(plant, {"base_x_joint": 0.05, "arm_flex_joint": -0.2})
-    motion = retarget(_vector(plant, START), np.zeros_like(arrive), np.zeros_like(arrive),
-                      _vector(plant, GOAL), limits, target_velocity=arrive)  # fmt: skip
+    arrive = configuration(plant, {"base_x_joint": 0.05, "arm_flex_joint": -0.2})
+    motion = retarget(configuration(plant, START), np.zeros_like(arrive), np.zeros_like(arrive),
+                      configuration(plant, GOAL), limits, target_velocity=arrive)  # fmt: skip
     assert motion.ok, motion.reason
     np.testing.assert_allclose(motion.at(motion.duration)[1], arrive, atol=1e-9)
 
@@ -102,8 +80,8 @@ def test_held_joints_and_an_unbounded_base_are_fine(plant, limits):
         upper=np.where(held, limits.upper, np.inf),
         velocity=np.where(held, 0.0, limits.velocity),  # the held joints could not move at all
     )
-    start = _vector(plant, {"base_x_joint": 40.0, "arm_flex_joint": -0.3})
-    goal = start + _vector(plant, {"base_x_joint": 0.5, "base_y_joint": -0.2})
+    start = configuration(plant, {"base_x_joint": 40.0, "arm_flex_joint": -0.3})
+    goal = start + configuration(plant, {"base_x_joint": 0.5, "base_y_joint": -0.2})
     motion = retarget(start, np.zeros_like(start), np.zeros_like(start), goal, odd)
     assert motion.ok, motion.reason
     positions, _, _ = _states(motion)
@@ -112,10 +90,10 @@ def test_held_joints_and_an_unbounded_base_are_fine(plant, limits):
 
 
 def test_a_nan_target_is_reported_not_raised(plant, limits):
-    goal = _vector(plant, GOAL)
+    goal = configuration(plant, GOAL)
     goal[_index(plant, "arm_flex_joint")] = np.nan
     zeros = np.zeros_like(goal)
-    motion = retarget(_vector(plant, START), zeros, zeros, goal, limits)
+    motion = retarget(configuration(plant, START), zeros, zeros, goal, limits)
     assert not motion.ok
     assert "target_position" in motion.reason and "not finite" in motion.reason
     with pytest.raises(ValueError, match="not finite"):
@@ -133,9 +111,9 @@ def test_a_nan_target_is_reported_not_raised(plant, limits):
 )
 def test_bad_input_is_reported_not_raised(plant, limits, name, value, reason):
     zeros = np.zeros(len(limits.lower))
-    inputs = {"position": _vector(plant, START), "velocity": zeros, "acceleration": zeros,
-              "target_position": _vector(plant, GOAL)}  # fmt: skip
-    inputs[name] = value if isinstance(value, np.ndarray) else _vector(plant, value)
+    inputs = {"position": configuration(plant, START), "velocity": zeros, "acceleration": zeros,
+              "target_position": configuration(plant, GOAL)}  # fmt: skip
+    inputs[name] = value if isinstance(value, np.ndarray) else configuration(plant, value)
     motion = retarget(limits=limits, **inputs)
     assert not motion.ok and reason in motion.reason
 
@@ -144,7 +122,7 @@ def test_a_motion_that_would_overshoot_a_position_limit_is_refused(plant, limits
     """Arm flex at -0.1 rad rising at its top speed 1.2 rad/s cannot stop before its upper
     limit 0: ruckig does not know position limits, the check after it does."""
     flex = _index(plant, "arm_flex_joint")
-    start, velocity = _vector(plant, {"arm_flex_joint": -0.1}), np.zeros(len(limits.lower))
+    start, velocity = configuration(plant, {"arm_flex_joint": -0.1}), np.zeros(len(limits.lower))
     velocity[flex] = 1.2
     motion = retarget(start, velocity, np.zeros_like(start), start, limits)
     assert not motion.ok and "passes the position limits of arm_flex_joint" in motion.reason

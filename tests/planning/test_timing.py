@@ -7,13 +7,12 @@ import dataclasses
 import numpy as np
 import pytest
 from pydrake.math import BsplineBasis
-from pydrake.multibody.parsing import Parser
 from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import PrismaticJoint, SpatialInertia
 from pydrake.trajectories import BsplineTrajectory
 
-from hsr_handover.hsr import add_hsr
 from hsr_handover.planning.timing import JointLimits, joint_limits, time_path
+from tests.planning.conftest import configuration
 
 STEP = 0.01  # s between the samples the limits are checked on
 # (lower, upper, velocity, acceleration) as hsrb.sdf gives them: m, m/s, m/s^2 or rad, ...
@@ -35,26 +34,6 @@ MODEL_LIMITS = {
 ARM_MOVE = {"arm_lift_joint": 0.3, "torso_lift_joint": 0.15, "arm_flex_joint": -1.2,
             "wrist_flex_joint": -1.0}  # fmt: skip
 BASE_AND_ARM_MOVE = {"base_x_joint": 0.4, "base_yaw_joint": 0.5, "arm_flex_joint": -1.2}
-
-
-@pytest.fixture(scope="module")
-def plant() -> MultibodyPlant:
-    plant = MultibodyPlant(0.01)
-    add_hsr(plant, Parser(plant))
-    plant.Finalize()
-    return plant
-
-
-@pytest.fixture(scope="module")
-def limits(plant) -> JointLimits:
-    return joint_limits(plant)
-
-
-def _configuration(plant, positions: dict[str, float]) -> np.ndarray:
-    q = np.zeros(plant.num_positions())
-    for joint, value in positions.items():
-        q[plant.GetJointByName(joint).position_start()] = value
-    return q
 
 
 def _line(start: np.ndarray, goal: np.ndarray, count: int = 8) -> BsplineTrajectory:
@@ -120,8 +99,8 @@ def test_joint_limits_keep_a_joint_without_position_limits_unbounded():
 
 @pytest.mark.parametrize("move", [ARM_MOVE, BASE_AND_ARM_MOVE], ids=["arm", "base_and_arm"])
 def test_a_straight_line_is_timed_from_rest_to_rest_within_the_limits(plant, limits, move):
-    start = _configuration(plant, {"arm_lift_joint": 0.1, "torso_lift_joint": 0.05})
-    goal = start + _configuration(plant, move)
+    start = configuration(plant, {"arm_lift_joint": 0.1, "torso_lift_joint": 0.05})
+    goal = start + configuration(plant, move)
     timed = time_path(_line(start, goal), limits)
     assert timed.ok, timed.reason
     times, positions = timed.sample(STEP)
@@ -153,7 +132,7 @@ def test_a_curved_path_keeps_its_limits_between_toppras_grid_points(plant, limit
 
 
 def test_held_joints_need_no_usable_limits_but_moving_ones_do(plant, limits):
-    path = _line(np.zeros(plant.num_positions()), _configuration(plant, {"arm_flex_joint": -1}))
+    path = _line(np.zeros(plant.num_positions()), configuration(plant, {"arm_flex_joint": -1}))
     flex = plant.GetJointByName("arm_flex_joint").position_start()
     held = np.arange(plant.num_positions()) != flex
     # Zero and infinite limits on the joints the path does not move change nothing.
@@ -168,14 +147,14 @@ def test_held_joints_need_no_usable_limits_but_moving_ones_do(plant, limits):
 def test_an_unbounded_base_is_timed(plant, limits):
     unbounded = dataclasses.replace(limits, lower=np.full_like(limits.lower, -np.inf),
                                     upper=np.full_like(limits.upper, np.inf))  # fmt: skip
-    goal = _configuration(plant, {"base_x_joint": 0.5, "base_y_joint": -0.3})
+    goal = configuration(plant, {"base_x_joint": 0.5, "base_y_joint": -0.3})
     timed = time_path(_line(np.zeros_like(goal), goal), unbounded)
     assert timed.ok, timed.reason
     _assert_near_the_fastest(timed.duration, goal, limits)
 
 
 def test_a_path_that_does_not_move_takes_no_time(plant, limits):
-    q = _configuration(plant, {"arm_flex_joint": -0.3})
+    q = configuration(plant, {"arm_flex_joint": -0.3})
     timed = time_path(_line(q, q), limits)
     assert timed.ok and timed.duration == 0.0
     times, positions = timed.sample(STEP)
@@ -184,7 +163,7 @@ def test_a_path_that_does_not_move_takes_no_time(plant, limits):
 
 
 def test_a_path_that_cannot_be_timed_is_reported_not_raised(plant, limits):
-    goal = _configuration(plant, {"arm_flex_joint": -1.0})
+    goal = configuration(plant, {"arm_flex_joint": -1.0})
     broken = _line(np.zeros_like(goal), goal)
     control = np.hstack(broken.control_points())
     control[4, 3] = np.nan
