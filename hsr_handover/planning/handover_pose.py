@@ -2,10 +2,10 @@
 
 The person's effectivity gives the ideal handover point (effectivity.mutual_area's rule). The
 robot faces the person from the front if it can stand there, else turned round the person by
-HANDOVER_TURNS_DEG (the table is usually in front of a seated person); at the first base pose
-that keeps clear, the arm's effectivity map placed there meets the person's range in the mutual
-area, the handover point is the mutual node nearest the ideal, and inverse kinematics, seeded by
-eq. 11 at the ideal point, confirms the hand reaches it.
+HANDOVER_TURNS_DEG, up to their side (the table is usually in front of a seated person); at the
+first base pose that keeps clear, the arm's effectivity map placed there meets the person's
+range in the mutual area, the handover point is the mutual node nearest the ideal, and inverse
+kinematics, seeded by eq. 11 at the ideal point, confirms the hand reaches it.
 """
 
 from __future__ import annotations
@@ -23,7 +23,9 @@ from hsr_handover.planning.base_placement import place_base
 from hsr_handover.planning.inverse_kinematics import PalmGoal, solve_palm_ik
 from hsr_handover.planning.planning_scene import PlanningScene
 
-HANDOVER_TURNS_DEG = (0.0, 30.0, -30.0, 60.0, -60.0, 90.0, -90.0, 120.0, -120.0)
+HANDOVER_TURNS_DEG = (0.0, 30.0, -30.0, 60.0, -60.0, 90.0, -90.0)
+"""The robot faces the person from in front or from the side, never from behind (a person
+does not see what comes from behind; the chair is there)."""
 NO_MUTUAL_AREA = "no mutual area"
 
 

@@ -4,22 +4,31 @@ the person as capsules around the lifted skeleton's bones.
 A lifted keypoint lies on the body's surface that faces the camera, so each bone's axis is put
 a limb's radius behind its keypoints, along the camera's line of sight; every capsule is then
 widened by a margin for the skeleton's error. COCO-18 has no hands: each forearm's capsule runs
-on past the wrist by a hand's length.
+on past the wrist by a hand's length. What the camera cannot see (the back, the seat, the legs
+under the table) is a column from the floor to the neck.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 
 from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.perception.object_shapes import ObjectShape
+from hsr_handover.perception.pinhole import PinholeCamera
 from hsr_handover.perception.table_fit import TableEstimate
 
 HAND_LENGTH = 0.18  # m, wrist to fingertips of an adult hand
 PERSON_MARGIN = 0.05
 """m added to every capsule: the lifted skeleton is off by a few cm."""
+UNSEEN_EXTENSION = 0.5  # m a table's top may run on past the edge of the camera's view
+EDGE_PROBE = 0.05  # m past an edge where the camera must see the floor for the edge to be real
+ROBOT_KEEP = 0.45  # m: an unseen table is never assumed nearer than this to the camera
+BODY_COLUMN_RADIUS = 0.3
+"""m: a person's body and seat seen from above (a chair's seat is about 45 cm square, the
+trunk about 35 cm deep); the column also stands for legs and back the camera does not see."""
 
 # Bone radii (m), adult anthropometry rounded up (upper arm and forearm girths of about 30 and
 # 26 cm, thigh 55 cm, calf 37 cm; the head's breadth about 15 cm; the chest's depth about 24 cm).
@@ -76,7 +85,51 @@ def person_capsules(
             forearm = end - start
             end = end + HAND_LENGTH * forearm / max(np.linalg.norm(forearm), 1e-9)
         capsules.append(Capsule(start, end, radius + margin))
-    return tuple(capsules)
+    column = _body_column(points, seen, camera_position, margin)
+    return tuple(capsules) + column
+
+
+def _body_column(points, seen, camera_position, margin: float) -> tuple[Capsule, ...]:
+    """What the camera cannot see of a person, down to the floor: the back, a seat, legs
+    under the table. A vertical capsule BODY_COLUMN_RADIUS round the neck, set back by the
+    radius, from the floor to the neck."""
+    neck = keypoint_index("neck")
+    if not seen[neck]:
+        return ()
+    sight = (points[neck] - camera_position) * np.array([1.0, 1.0, 0.0])  # set back level
+    center = points[neck] + BODY_COLUMN_RADIUS * sight / max(np.linalg.norm(sight), 1e-9)
+    radius = BODY_COLUMN_RADIUS + margin
+    bottom = np.array([center[0], center[1], radius])
+    top = np.array([center[0], center[1], max(points[neck][2], 2 * radius)])
+    return (Capsule(bottom, top, radius),)
+
+
+def extend_past_view(
+    table: TableEstimate, camera: PinholeCamera, X_WC: np.ndarray
+) -> TableEstimate:
+    """The table with each edge that lies at the edge of the camera's view pushed out by
+    UNSEEN_EXTENSION: the camera saw the top run out of the picture there, not end, and what
+    the robot has not seen it must not drive into. An edge never comes nearer than ROBOT_KEEP
+    to the camera (on the robot) this way: the near edge of a table seen with the head raised
+    is not pushed under the robot."""
+    c, s = math.cos(table.yaw), math.sin(table.yaw)
+    rotation = np.array([[c, -s], [s, c]])
+    camera_local = rotation.T @ (X_WC[:2, 3] - table.center)
+    low, high = -table.size / 2, table.size / 2
+    for axis in (0, 1):
+        for sign, edge in ((1.0, high), (-1.0, low)):
+            probe = np.zeros(2)
+            probe[axis] = edge[axis] + sign * EDGE_PROBE
+            probe[1 - axis] = 0.0
+            world = np.array([*(table.center + rotation @ probe), table.height])
+            pixel, depth = camera.project(world[None], X_WC)
+            if depth[0] > 0 and camera.contains(pixel)[0]:
+                continue
+            outward = sign * (camera_local[axis] - edge[axis])  # > 0: the camera is that way
+            room = outward - ROBOT_KEEP if outward > 0 else UNSEEN_EXTENSION
+            edge[axis] += sign * float(np.clip(room, 0.0, UNSEEN_EXTENSION))
+    center = table.center + rotation @ ((low + high) / 2)
+    return dataclasses.replace(table, center=center, size=high - low)
 
 
 def _behind(surface: np.ndarray, camera_position: np.ndarray, depth: float) -> np.ndarray:

@@ -9,19 +9,25 @@ from pydrake.systems.sensors import ImageDepth32F
 
 from hsr_handover.perception.object_shapes import measure_objects
 from hsr_handover.perception.pinhole import PinholeCamera
-from hsr_handover.planning.perceived_scene import PERSON_MARGIN, PerceivedScene, person_capsules
+from hsr_handover.planning.perceived_scene import (
+    PERSON_MARGIN,
+    PerceivedScene,
+    extend_past_view,
+    person_capsules,
+)
 
 
 class PerceivedSceneEstimator(LeafSystem):
     """The planning scene's contents (DESIGN §3.4), computed when asked for.
 
-    Inputs: `table` (TableReport), `detections` (DetectionResult: every detection is an
-    obstacle, confirmed by the map or not), `depth_image` (ImageDepth32F of the detections'
-    capture), `camera_pose` (RigidTransform X_WC) and
-    `skeleton` (the lifted Skeleton). Output `scene`: a PerceivedScene: the fitted table, each
-    detected object as a cylinder or box standing on it (none before the table is seen), and
-    the person's capsules widened by `person_margin` (m). `camera` holds the intrinsics of the
-    depth image's size.
+        Inputs: `table` (TableReport), `detections` (DetectionResult: every detection is an
+        obstacle, confirmed by the map or not), `depth_image` (ImageDepth32F of the detections'
+        capture), `camera_pose` (RigidTransform X_WC) and
+        `skeleton` (the lifted Skeleton). Output `scene`: a PerceivedScene: the fitted table (its
+    edges at the edge of the camera's view pushed out: the top may run on unseen), each
+        detected object as a cylinder or box standing on it (none before the table is seen), and
+        the person's capsules widened by `person_margin` (m). `camera` holds the intrinsics of the
+        depth image's size.
     """
 
     def __init__(self, camera: PinholeCamera, person_margin: float = PERSON_MARGIN):
@@ -53,7 +59,7 @@ class PerceivedSceneEstimator(LeafSystem):
         if table is not None:
             detections = self._detections.Eval(context).detections
             depth = self._depth.Eval(context).data[:, :, 0]
-            objects = tuple(
-                measure_objects(detections, depth, self._camera, pose.GetAsMatrix4(), table.height)
-            )
+            X_WC = pose.GetAsMatrix4()
+            objects = tuple(measure_objects(detections, depth, self._camera, X_WC, table.height))
+            table = extend_past_view(table, self._camera, X_WC)
         output.set_value(PerceivedScene(table, objects, person))

@@ -60,7 +60,7 @@ def test_each_detection_becomes_a_solid_standing_on_the_fitted_table():
     assert shape.bottom == TABLE_TOP and shape.height == pytest.approx(BOX_TOP - TABLE_TOP)
     np.testing.assert_allclose(shape.center, center[:2], atol=metres_per_pixel)
     np.testing.assert_allclose(shape.size, 9 * metres_per_pixel, rtol=0.02)  # 10 pixel centres
-    assert len(scene.person) == 6  # the six bones whose two keypoints were seen
+    assert len(scene.person) == 7  # the six bones whose two keypoints were seen, the body
 
 
 def test_before_the_table_is_seen_there_are_no_objects_but_the_person():
@@ -68,7 +68,7 @@ def test_before_the_table_is_seen_there_are_no_objects_but_the_person():
     context, _ = _fix_inputs(system, None)
     scene = system.GetOutputPort("scene").Eval(context)
     assert scene.table is None and scene.objects == ()
-    assert len(scene.person) == 6
+    assert len(scene.person) == 7
 
 
 def test_a_negative_margin_is_refused_by_name():
