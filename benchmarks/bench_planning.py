@@ -96,12 +96,11 @@ def plan_scene(spec: SceneSpec) -> list[dict]:
     station = watched.simulation.station
     station_context = watched.simulation.station_context(watched.root)
     planning = PlanningScene(perceived)
-    names = [planning.plant.get_joint(i).name() for i in _position_joints(planning)]
-    truth = TrueClearance(station, station_context, names)
+    limits = joint_limits(planning.plant)
+    truth = TrueClearance(station, station_context, list(limits.names))
     by_color = {obj.color: obj.name for obj in scenario.objects}
     labels = [shape.label for shape in perceived.objects if shape.label in by_color]
     arm_map, _ = load_or_build()
-    limits = joint_limits(planning.plant)
     rng = np.random.default_rng(spec.seed)
     records, holds = [], []
     for index in range(spec.targets):
@@ -146,14 +145,6 @@ def _clear_start(planning, truth, measured: dict, rng: np.random.Generator) -> n
         if truth(planning.positions())[0] >= START_CLEARANCE:
             return planning.positions()
     return perceived_from
-
-
-def _position_joints(planning: PlanningScene):
-    """The planning plant's joint indices in position order (all joints have one position)."""
-    plant = planning.plant
-    joints = [i for i in plant.GetJointIndices(planning.robot)
-              if plant.get_joint(i).num_positions() == 1]  # fmt: skip
-    return sorted(joints, key=lambda i: plant.get_joint(i).position_start())
 
 
 def _record(spec: SceneSpec, kind: str, variant: str, plan: Plan | None, truth, by_color) -> dict:

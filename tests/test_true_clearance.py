@@ -9,6 +9,7 @@ from pydrake.multibody.plant import MultibodyPlant
 
 from hsr_handover.experiments.true_clearance import TrueClearance
 from hsr_handover.hsr import add_hsr
+from hsr_handover.planning.timing import joint_limits
 from hsr_handover.scenario import load_scenario
 from hsr_handover.station import build_station
 from tests.conftest import SCENARIOS
@@ -18,12 +19,9 @@ from tests.conftest import SCENARIOS
 def truth():
     station = build_station(load_scenario(SCENARIOS / "intent_reference.yaml"))
     plant = MultibodyPlant(0.01)
-    robot = add_hsr(plant, Parser(plant))
+    add_hsr(plant, Parser(plant))
     plant.Finalize()
-    joints = sorted((plant.get_joint(i) for i in plant.GetJointIndices(robot)
-                     if plant.get_joint(i).num_positions() == 1),
-                    key=lambda joint: joint.position_start())  # fmt: skip
-    names = [joint.name() for joint in joints]
+    names = list(joint_limits(plant).names)  # the plant's position order
     return TrueClearance(station, station.diagram.CreateDefaultContext(), names), names
 
 
