@@ -6,9 +6,9 @@ unseeded (the base at a fixed reach, IK from the arm as it is). Per plan: succes
 of each stage (IK, trajectory optimisation, toppra timing), the least clearance along the timed
 trajectory checked every 10 ms against the simulation's true geometry, and the duration.
 
-Each scene is perceived by the robot (a short simulation: the table fitted to the point
-clouds, the objects detected and sized from depth, the person's skeleton lifted); the planner
-sees only that.
+Each scene is perceived by the robot (a short simulation in which it looks round the table,
+pans its head left and right, then back: the table fitted to the point clouds, the objects
+detected and sized from depth, the person's skeleton lifted); the planner sees only that.
 
     python benchmarks/bench_planning.py [--targets 200] [--per-scene 10] [--seed 0]
         [--workers 2] [--json planning.json]
@@ -40,7 +40,7 @@ from hsr_handover.scenario import load_scenario
 ROOT = Path(__file__).resolve().parents[1] / "scenarios"
 SCENES = ("demo.yaml", "intent_reference.yaml", "layouts/standing_five.yaml",
           "layouts/moved_base_four.yaml")  # fmt: skip
-PERCEIVE_S = 2.0  # s of simulation before planning: the table fitted, the objects seen
+PERCEIVE_S = 3.5  # s of simulation before planning: a look round (2.7 s), then a steady view
 LOOK_AT_TABLE = -0.1
 """rad of head tilt while perceiving: the robot looks at the table before it plans a grasp.
 (standing_five tilts the head up to a standing face, which cuts the table's near edge out of
@@ -91,7 +91,7 @@ def moved(scenario, move):
 def plan_scene(spec: SceneSpec) -> list[dict]:
     """Every target of one scene, planned seeded and unseeded; one record per plan."""
     scenario = moved(load_scenario(ROOT / spec.scenario), spec.move)
-    watched = watch(scenario, PERCEIVE_S)
+    watched = watch(scenario, PERCEIVE_S, look_around=True)
     perceived, measured = watched.percept("perceived_scene"), watched.measured_positions()
     station = watched.simulation.station
     station_context = watched.simulation.station_context(watched.root)

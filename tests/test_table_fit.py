@@ -11,6 +11,7 @@ from pydrake.perception import PointCloud
 from pydrake.systems.analysis import Simulator
 
 from hsr_handover.perception.cloud_map import Workspace
+from hsr_handover.perception.pinhole import PinholeCamera
 from hsr_handover.perception.table_fit import (
     NO_POINTS,
     NO_TABLE,
@@ -79,6 +80,42 @@ def test_views_of_parts_of_the_table_add_up_to_all_of_it():
     assert near_half.size[0] < 0.8 * SIZE[0]
     table_map.add(np.vstack([_top(0.01, 0.01, rng, part=(0.45, 1.0)), _clutter(rng)]))
     _assert_is_the_table(table_map.estimate())
+
+
+def _looking_down_at(local_x: float) -> tuple[PinholeCamera, np.ndarray]:
+    """A camera 2 m up over the table's axis at `local_x` along it, looking straight down,
+    its square image 0.9 m across at the top's height."""
+    c, s = math.cos(YAW), math.sin(YAW)
+    along, across = np.array([c, s, 0.0]), np.array([-s, c, 0.0])
+    X_WC = np.eye(4)
+    X_WC[:3, :3] = np.column_stack([across, along, [0.0, 0.0, -1.0]])
+    X_WC[:3, 3] = [*(CENTER + local_x * along[:2]), 2.0]
+    fov = 2 * math.atan(0.45 / (2.0 - HEIGHT))
+    return PinholeCamera.from_fov_x(300, 300, fov), X_WC
+
+
+def test_an_edge_at_the_edge_of_the_view_stays_open_until_seen_past():
+    rng = np.random.default_rng(2)
+    table_map = TableMap(WORKSPACE)
+    table_map.add(np.vstack([_top(0.01, 0.01, rng, part=(0.0, 0.55)), _clutter(rng)]),
+                  view=_looking_down_at(-0.45))  # fmt: skip
+    # The near end and both sides were seen to end; the far part never came into view.
+    half = table_map.estimate()
+    (open_edge,) = np.flatnonzero(half.open_edges)
+    axis, sign = divmod(int(open_edge), 2)
+    outward = (1.0 if sign == 0 else -1.0) * np.array(
+        [math.cos(half.yaw + axis * math.pi / 2), math.sin(half.yaw + axis * math.pi / 2)]
+    )
+    assert outward @ [math.cos(YAW), math.sin(YAW)] > 0.99  # toward the part never seen
+    table_map.add(np.vstack([_top(0.01, 0.01, rng, part=(0.45, 1.0)), _clutter(rng)]),
+                  view=_looking_down_at(0.4))  # fmt: skip
+    estimate = table_map.estimate()
+    _assert_is_the_table(estimate)
+    assert estimate.open_edges == (False, False, False, False)
+    # Without views nothing is known past any edge.
+    blind = TableMap(WORKSPACE)
+    blind.add(np.vstack([_top(0.01, 0.01, rng), _clutter(rng)]))
+    assert blind.estimate().open_edges == (True, True, True, True)
 
 
 def test_no_table_is_reported_and_never_guessed():

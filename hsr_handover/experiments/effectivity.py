@@ -19,7 +19,7 @@ from hsr_handover.planning.handover_pose import HandoverPose, plan_handover_pose
 from hsr_handover.planning.planning_scene import PlanningScene
 from hsr_handover.scenario import Scenario
 
-WATCH_S = 2.0  # s the robot watches before the figures: the table fitted, the person lifted
+WATCH_S = 3.5  # s the robot watches, looking round first: the table fitted, the person lifted
 RANDOM_TARGETS = 2000  # reachable palm positions for eq. 11's error away from the nodes
 SIDES = ("r", "l")  # the receiving arm: the right unless it is not seen
 
@@ -70,12 +70,12 @@ def palm_errors(arm_map: ArmEffectivity, seed: int = 1) -> tuple[float, float]:
 
 
 def run_effectivity(scenario: Scenario, watch_s: float = WATCH_S) -> EffectivityResult:
-    """Watch the scenario for `watch_s` (perception on, whatever the file says), then compute
-    the figures from the percepts."""
+    """Watch the scenario for `watch_s` (perception on, whatever the file says; the head looks
+    round the table first), then compute the figures from the percepts."""
     start = time.perf_counter()
     arm_map, _ = load_or_build()
     at_nodes, at_random = palm_errors(arm_map)
-    watched = watch(scenario, watch_s)
+    watched = watch(scenario, watch_s, look_around=True)
     scene = watched.percept("perceived_scene")
     skeleton = watched.percept("skeleton")
     graph = watched.percept("gng_graph")

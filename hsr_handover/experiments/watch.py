@@ -8,8 +8,12 @@ import dataclasses
 from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import Context
 
+from hsr_handover.hsr import COMMANDED_JOINTS
 from hsr_handover.scenario import Scenario
 from hsr_handover.simulation import Simulation, build_simulation
+
+LOOK_AROUND_PANS = (0.7, -0.7)  # rad of head pan: the table's ends, each side in turn
+LOOK_DWELL_S = 0.9  # s at each: the pan's move (1 rad/s) and a few table fits (5 Hz)
 
 
 @dataclasses.dataclass
@@ -29,11 +33,30 @@ class Watched:
         return self.simulation.measured_positions(self.root)
 
 
-def watch(scenario: Scenario, seconds: float) -> Watched:
-    """Simulate `scenario` for `seconds` with perception on, whatever the file says."""
+def watch(scenario: Scenario, seconds: float, look_around: bool = False) -> Watched:
+    """Simulate `scenario` for `seconds` with perception on, whatever the file says. With
+    `look_around`, the head first pans to each of LOOK_AROUND_PANS for LOOK_DWELL_S (so the
+    table's ends come into view), then back, before the remaining time."""
     perception = dataclasses.replace(scenario.perception, enabled=True)
     scenario = dataclasses.replace(scenario, perception=perception)
     simulation = build_simulation(scenario)
     simulator = Simulator(simulation.diagram)
-    simulator.AdvanceTo(seconds)
+    if look_around:
+        _look_around(simulation, simulator)
+    simulator.AdvanceTo(max(seconds, simulator.get_context().get_time()))
     return Watched(simulation, simulator, simulator.get_context())
+
+
+def _look_around(simulation: Simulation, simulator: Simulator) -> None:
+    """A stand-in for the supervisor's look round (issue 10): the ready posture's head pan
+    stepped through LOOK_AROUND_PANS, then back to where it was."""
+    posture = simulation.robot.diagram.GetSubsystemByName("ready_posture")
+    context = posture.GetMyMutableContextFromRoot(simulator.get_mutable_context())
+    command = posture.get_mutable_source_value(context)
+    pan = COMMANDED_JOINTS.index("head_pan_joint")
+    start = command.get_value()[pan]
+    for angle in (*LOOK_AROUND_PANS, start):
+        value = command.get_value().copy()
+        value[pan] = angle
+        command.set_value(value)
+        simulator.AdvanceTo(simulator.get_context().get_time() + LOOK_DWELL_S)

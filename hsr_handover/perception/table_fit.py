@@ -18,7 +18,9 @@ import cv2
 import numpy as np
 
 from hsr_handover.perception.cloud_map import Workspace
+from hsr_handover.perception.pinhole import PinholeCamera
 
+EDGE_PROBE_M = 0.05  # m past an edge's middle where the camera must have looked and seen no top
 NO_POINTS = "no points at a table's height"
 NO_TABLE = "no table top seen"
 
@@ -58,6 +60,9 @@ class TableEstimate:
     size: np.ndarray
     yaw: float
     cells: int
+    open_edges: tuple[bool, ...] = (False, False, False, False)
+    """Per edge (+x, -x, +y, -y along the rectangle's own axes): whether the top may run on past
+    it, the camera never having had the strip just beyond it in view."""
 
     def corners(self) -> np.ndarray:
         """The top's four corners (4, 2) in the world, counter-clockwise."""
@@ -104,24 +109,61 @@ class TableMap:
         span = np.asarray(workspace.upper[:2], dtype=float) - self._origin
         shape = np.maximum(np.ceil(span / params.cell_m).astype(int), 1)
         self.counts_ = np.zeros((shape[1], shape[0]), dtype=np.int32)  # rows are y, columns x
+        self.viewed_ = np.zeros((shape[1], shape[0]), dtype=bool)  # in a camera's view at the top
         self.heights_: list[float] = []
 
-    def add(self, points: np.ndarray) -> str:
-        """Add one frame's world points (N, 3; NaN rows are skipped); returns "ok" or why the
-        frame showed no table top."""
+    def add(self, points: np.ndarray, view: tuple[PinholeCamera, np.ndarray] | None = None) -> str:
+        """Add one frame's world points (N, 3; NaN rows are skipped), with the `view` (camera
+        intrinsics and X_WC) they were seen with, which marks the cells the camera had in view
+        at the top's height; returns "ok" or why the frame showed no table top."""
         points = self.workspace.crop(np.asarray(points, dtype=float).reshape(-1, 3))
         height = top_height(points[:, 2], self.params)
         if height is None:
             return NO_POINTS
         self.heights_.append(height)
         on_top = points[np.abs(points[:, 2] - self.height) <= self.params.band_m]
-        cells = np.floor((on_top[:, :2] - self._origin) / self.params.cell_m).astype(int)
+        np.add.at(self.counts_, self._cells(on_top[:, :2]), 1)
+        if view is not None:
+            self._mark_viewed(*view)
+        return "ok"
+
+    def _mark_viewed(self, camera: PinholeCamera, X_WC: np.ndarray) -> None:
+        rows, cols = self.counts_.shape
+        y, x = np.mgrid[0:rows, 0:cols]
+        centres = (
+            self._origin + (np.column_stack([x.ravel(), y.ravel()]) + 0.5) * self.params.cell_m
+        )
+        at_top = np.column_stack([centres, np.full(len(centres), self.height)])
+        pixels, depth = camera.project(at_top, X_WC)
+        self.viewed_ |= ((depth > 0) & camera.contains(pixels)).reshape(rows, cols)
+
+    def _cells(self, xy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(rows, columns) of the grid cells under the points (N, 2) that fall on the grid."""
+        cells = np.floor((xy - self._origin) / self.params.cell_m).astype(int)
         rows, cols = self.counts_.shape
         inside = (
             (cells[:, 0] >= 0) & (cells[:, 0] < cols) & (cells[:, 1] >= 0) & (cells[:, 1] < rows)
         )
-        np.add.at(self.counts_, (cells[inside, 1], cells[inside, 0]), 1)
-        return "ok"
+        return cells[inside, 1], cells[inside, 0]
+
+    def open_edges(self, estimate: TableEstimate) -> tuple[bool, ...]:
+        """Per edge of `estimate` (+x, -x, +y, -y): False when the camera has had the point
+        EDGE_PROBE_M past the edge's middle in view and saw no top there (a rectangular top
+        that ends there ends along the whole edge; the middle, not a corner, because a view
+        cut diagonally by the image's border leaves a corner's strip unseen); True (the top may
+        run on) otherwise."""
+        c, s = math.cos(estimate.yaw), math.sin(estimate.yaw)
+        rotation = np.array([[c, -s], [s, c]])
+        result = []
+        for axis in (0, 1):
+            for sign in (1.0, -1.0):
+                local = np.zeros(2)
+                local[axis] = sign * (estimate.size[axis] / 2 + EDGE_PROBE_M)
+                rows, cols = self._cells((estimate.center + rotation @ local)[None])
+                ends = len(rows) == 1 and self.viewed_[rows[0], cols[0]]
+                ends = ends and self.counts_[rows[0], cols[0]] == 0
+                result.append(not ends)
+        return tuple(result)
 
     @property
     def height(self) -> float:
@@ -164,4 +206,5 @@ class TableMap:
         yaw = (yaw + math.pi / 2) % math.pi - math.pi / 2
         center = self._origin + np.array([cx, cy]) * self.params.cell_m
         size = np.array([length, width]) * self.params.cell_m
-        return TableEstimate(self.height, center, size, yaw, cells)
+        estimate = TableEstimate(self.height, center, size, yaw, cells)
+        return dataclasses.replace(estimate, open_edges=self.open_edges(estimate))

@@ -63,6 +63,8 @@ def solve_palm_ik(
     seed = np.asarray(seed, dtype=float)
     if not (np.all(np.isfinite(seed)) and np.all(np.isfinite(goal.point))):
         return IkResult(False, seed, "non-finite seed or goal", time.perf_counter() - start)
+    plant = scene.plant
+    seed = np.clip(seed, plant.GetPositionLowerLimits(), plant.GetPositionUpperLimits())
     with scene.ignoring(ignore):
         ik = _build(scene, goal, seed, base_fixed, min_distance)
         result = Solve(ik.prog(), seed)

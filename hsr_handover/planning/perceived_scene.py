@@ -17,14 +17,12 @@ import numpy as np
 
 from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.perception.object_shapes import ObjectShape
-from hsr_handover.perception.pinhole import PinholeCamera
 from hsr_handover.perception.table_fit import TableEstimate
 
 HAND_LENGTH = 0.18  # m, wrist to fingertips of an adult hand
 PERSON_MARGIN = 0.05
 """m added to every capsule: the lifted skeleton is off by a few cm."""
 UNSEEN_EXTENSION = 0.5  # m a table's top may run on past the edge of the camera's view
-EDGE_PROBE = 0.05  # m past an edge where the camera must see the floor for the edge to be real
 ROBOT_KEEP = 0.45  # m: an unseen table is never assumed nearer than this to the camera
 BODY_COLUMN_RADIUS = 0.3
 """m: a person's body and seat seen from above (a chair's seat is about 45 cm square, the
@@ -104,30 +102,22 @@ def _body_column(points, seen, camera_position, margin: float) -> tuple[Capsule,
     return (Capsule(bottom, top, radius),)
 
 
-def extend_past_view(
-    table: TableEstimate, camera: PinholeCamera, X_WC: np.ndarray
-) -> TableEstimate:
-    """The table with each edge that lies at the edge of the camera's view pushed out by
-    UNSEEN_EXTENSION: the camera saw the top run out of the picture there, not end, and what
-    the robot has not seen it must not drive into. An edge never comes nearer than ROBOT_KEEP
-    to the camera (on the robot) this way: the near edge of a table seen with the head raised
-    is not pushed under the robot."""
+def extend_past_view(table: TableEstimate, camera_xy: np.ndarray) -> TableEstimate:
+    """The table with each of its `open_edges` (the camera never had the strip beyond in view:
+    the top may run on) pushed out by UNSEEN_EXTENSION, what the robot has not seen it must not
+    drive into; but never nearer than ROBOT_KEEP to the camera at `camera_xy` (on the robot):
+    the near edge of a table seen with the head raised is not pushed under the robot."""
     c, s = math.cos(table.yaw), math.sin(table.yaw)
     rotation = np.array([[c, -s], [s, c]])
-    camera_local = rotation.T @ (X_WC[:2, 3] - table.center)
+    camera_local = rotation.T @ (np.asarray(camera_xy, dtype=float)[:2] - table.center)
     low, high = -table.size / 2, table.size / 2
-    for axis in (0, 1):
-        for sign, edge in ((1.0, high), (-1.0, low)):
-            probe = np.zeros(2)
-            probe[axis] = edge[axis] + sign * EDGE_PROBE
-            probe[1 - axis] = 0.0
-            world = np.array([*(table.center + rotation @ probe), table.height])
-            pixel, depth = camera.project(world[None], X_WC)
-            if depth[0] > 0 and camera.contains(pixel)[0]:
-                continue
-            outward = sign * (camera_local[axis] - edge[axis])  # > 0: the camera is that way
-            room = outward - ROBOT_KEEP if outward > 0 else UNSEEN_EXTENSION
-            edge[axis] += sign * float(np.clip(room, 0.0, UNSEEN_EXTENSION))
+    edges = ((0, 1.0, high), (0, -1.0, low), (1, 1.0, high), (1, -1.0, low))
+    for is_open, (axis, sign, edge) in zip(table.open_edges, edges, strict=True):
+        if not is_open:
+            continue
+        outward = sign * (camera_local[axis] - edge[axis])  # > 0: the camera is that way
+        room = outward - ROBOT_KEEP if outward > 0 else UNSEEN_EXTENSION
+        edge[axis] += sign * float(np.clip(room, 0.0, UNSEEN_EXTENSION))
     center = table.center + rotation @ ((low + high) / 2)
     return dataclasses.replace(table, center=center, size=high - low)
 

@@ -114,8 +114,12 @@ class PlanningScene:
 
     def set_positions(self, positions: Mapping[str, float]) -> None:
         """Put the HSR in a configuration (actuated joint names, or "gripper" for the opening;
-        the torso follows the arm lift)."""
+        the torso follows the arm lift), held within the joints' limits."""
         hsr_set_positions(self.plant, self.plant_context, self.robot, positions)
+        # Sensors read a hair outside a limit (a finger at -1e-23 m): the planner starts inside.
+        q = self.plant.GetPositions(self.plant_context)
+        lower, upper = self.plant.GetPositionLowerLimits(), self.plant.GetPositionUpperLimits()
+        self.plant.SetPositions(self.plant_context, np.clip(q, lower, upper))
 
     def index(self, joint: str) -> int:
         """The joint's index in the plant's position vector (not the joint order)."""

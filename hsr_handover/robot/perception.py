@@ -143,9 +143,12 @@ def add_perception(builder: DiagramBuilder, scenario: Scenario) -> None:
     builder.Connect(detector.GetOutputPort("detections"), cross_check.GetInputPort("detections"))
     builder.Connect(gng.GetOutputPort("graph"), cross_check.GetInputPort("graph"))
     table = builder.AddNamedSystem(
-        "table_estimator", TableEstimator(workspace, TABLE_FRAME_STRIDE / scenario.camera.rate_hz)
-    )
+        "table_estimator",
+        TableEstimator(workspace, TABLE_FRAME_STRIDE / scenario.camera.rate_hz,
+                       camera=scenario.camera.pinhole()),
+    )  # fmt: skip
     builder.Connect(to_cloud.point_cloud_output_port(), table.GetInputPort("point_cloud"))
+    inputs.feed(interface.CAMERA_POSE, table.GetInputPort("camera_pose"))
     scene = builder.AddNamedSystem(
         "perceived_scene_estimator", PerceivedSceneEstimator(scenario.camera.pinhole())
     )

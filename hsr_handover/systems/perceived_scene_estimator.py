@@ -61,5 +61,5 @@ class PerceivedSceneEstimator(LeafSystem):
             depth = self._depth.Eval(context).data[:, :, 0]
             X_WC = pose.GetAsMatrix4()
             objects = tuple(measure_objects(detections, depth, self._camera, X_WC, table.height))
-            table = extend_past_view(table, self._camera, X_WC)
+            table = extend_past_view(table, X_WC[:2, 3])
         output.set_value(PerceivedScene(table, objects, person))

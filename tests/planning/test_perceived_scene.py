@@ -3,6 +3,7 @@ person's capsules from a lifted skeleton."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -10,7 +11,6 @@ import pytest
 
 from hsr_handover.perception.coco18 import NUM_KEYPOINTS, keypoint_index
 from hsr_handover.perception.object_shapes import BOX, CYLINDER, MIN_POINTS, fit_shape
-from hsr_handover.perception.pinhole import PinholeCamera
 from hsr_handover.perception.table_fit import TableEstimate
 from hsr_handover.planning.perceived_scene import (
     BODY_COLUMN_RADIUS,
@@ -113,32 +113,16 @@ def test_the_person_is_capsules_behind_the_seen_surface_with_a_hand_past_the_wri
     assert person_capsules(points, np.zeros(NUM_KEYPOINTS), camera) == ()
 
 
-def _looking_down_x(x: float, height: float = 1.0, pitch: float = 0.5) -> np.ndarray:
-    """X_WC of a camera at (x, 0, height) looking along +x, tilted `pitch` rad down (z forward,
-    x right, y down, as Drake's cameras are)."""
-    forward = np.array([math.cos(pitch), 0.0, -math.sin(pitch)])
-    right = np.array([0.0, -1.0, 0.0])
-    down = np.cross(forward, right)
-    pose = np.eye(4)
-    pose[:3, :3] = np.column_stack([right, down, forward])
-    pose[:3, 3] = [x, 0.0, height]
-    return pose
-
-
-def test_a_table_running_out_of_view_runs_on_unseen_but_never_under_the_robot():
-    camera = PinholeCamera.from_fov_x(320, 240, 1.05)
-    X_WC = _looking_down_x(0.0)
-    # A narrow table fully in view: unchanged.
-    small = TableEstimate(TABLE_TOP, np.array([1.2, 0.0]), np.array([0.3, 0.3]), 0.0, 900)
-    same = extend_past_view(small, camera, X_WC)
-    np.testing.assert_allclose([*same.center, *same.size], [*small.center, *small.size])
-    # A wide one whose ends leave the picture: both ends run on by UNSEEN_EXTENSION.
-    wide = TableEstimate(TABLE_TOP, np.array([1.2, 0.0]), np.array([0.3, 2.0]), 0.0, 6000)
-    extended = extend_past_view(wide, camera, X_WC)
-    np.testing.assert_allclose(extended.size, [0.3, 2.0 + 2 * UNSEEN_EXTENSION])
-    np.testing.assert_allclose(extended.center, wide.center)
-    # The head raised: the near edge is out of view too, but stops ROBOT_KEEP short of it.
-    raised = _looking_down_x(0.0, height=1.6, pitch=0.0)  # looking level at a standing face
-    near = TableEstimate(TABLE_TOP, np.array([1.0, 0.0]), np.array([0.3, 0.3]), 0.0, 900)
-    pushed = extend_past_view(near, camera, raised)
+def test_open_edges_run_on_unseen_but_never_under_the_robot():
+    table = TableEstimate(TABLE_TOP, np.array([1.0, 0.0]), np.array([0.3, 1.0]), 0.0, 3000)
+    np.testing.assert_allclose(extend_past_view(table, np.zeros(2)).size, table.size)
+    # Both ends open: each runs on by UNSEEN_EXTENSION.
+    ends = dataclasses.replace(table, open_edges=(False, False, True, True))
+    extended = extend_past_view(ends, np.zeros(2))
+    np.testing.assert_allclose(extended.size, [0.3, 1.0 + 2 * UNSEEN_EXTENSION])
+    np.testing.assert_allclose(extended.center, table.center)
+    # The near edge open (the head raised): it stops ROBOT_KEEP short of the camera at x = 0.
+    near = dataclasses.replace(table, open_edges=(False, True, False, False))
+    pushed = extend_past_view(near, np.zeros(2))
     assert pushed.center[0] - pushed.size[0] / 2 == pytest.approx(ROBOT_KEEP)
+    assert pushed.center[0] + pushed.size[0] / 2 == pytest.approx(1.15)
