@@ -28,11 +28,13 @@ from hsr_handover.scenario import load_scenario
 
 SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "intent_reference.yaml"
 GRID = {
-    "pointing_ray": ("shoulder_wrist", "elbow_wrist", "eye_wrist"),
+    "pointing_ray": ("shoulder_wrist", "elbow_wrist"),
     "d_min": (0.2, 0.3),
     "gaze_tolerance_deg": (8.0, 12.0),
     "t_max": (0.3, 0.5),
-    "steady_deg_s": (20.0, 30.0, 1000.0),
+    "steady_deg_s": (30.0, 1000.0),
+    "face_tilt_deg": (23.0, 30.0),
+    "gaze_pitch_tolerance_deg": (6.0, 8.0, 12.0, 90.0),
 }
 
 

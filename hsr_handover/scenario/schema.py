@@ -261,18 +261,20 @@ class IntentConfig:
     perception does: an arm straighter than `straight_arm_deg` (eq. 16's elbow angle) whose
     `pointing_ray` ("shoulder_wrist", "elbow_wrist" or "eye_wrist") passes within `d_min` of an
     object, and the eyes' direction (eq. 17's face normal, its turn from the torso's forward
-    direction scaled by `head_gain`) within `gaze_tolerance_deg` of the same object, both for
-    `t_max`, over rays averaged across `smoothing_s`, while the pointing arm turns slower than
-    `steady_deg_s`; `face_tilt_deg` only pitches the drawn gaze ray. The meaning and the
-    measured defaults: `hsr_handover.intent.IntentParams`.
+    direction and its pitch from level, tilted down by `face_tilt_deg`, scaled by `head_gain`)
+    within `gaze_tolerance_deg` horizontally of the same object and no more than
+    `gaze_pitch_tolerance_deg` above it, both for `t_max`, over rays averaged across
+    `smoothing_s`, while the pointing arm turns slower than `steady_deg_s`. The meaning and
+    the measured defaults: `hsr_handover.intent.IntentParams`.
 
-    Ranges: straight_arm_deg in (90, 180] deg; d_min in (0, 2] m; gaze_tolerance_deg in (0, 90]
-    deg; t_max in [0, 10] s; head_gain in [1, 3]; face_tilt_deg in [0, 90] deg; smoothing_s in
-    [0, 10] s; steady_deg_s in (0, 1000] deg/s."""
+    Ranges: straight_arm_deg in (90, 180] deg; d_min in (0, 2] m; gaze_tolerance_deg and
+    gaze_pitch_tolerance_deg in (0, 90] deg; t_max in [0, 10] s; head_gain in [1, 3];
+    face_tilt_deg in [0, 90] deg; smoothing_s in [0, 10] s; steady_deg_s in (0, 1000] deg/s."""
 
     straight_arm_deg: float = IntentParams.straight_arm_deg
     d_min: float = IntentParams.d_min
     gaze_tolerance_deg: float = IntentParams.gaze_tolerance_deg
+    gaze_pitch_tolerance_deg: float = IntentParams.gaze_pitch_tolerance_deg
     t_max: float = IntentParams.t_max
     pointing_ray: str = IntentParams.pointing_ray
     head_gain: float = IntentParams.head_gain

@@ -27,6 +27,7 @@ from hsr_handover.intent.tracker import (
     gaze_ray,
     judge_frame,
     observe,
+    pitch_errors_deg,
     torso_forward,
 )
 from hsr_handover.perception.coco18 import keypoint_index
@@ -50,7 +51,9 @@ def test_face_normal_faces_away_from_the_head_and_tilts_up_by_the_face_tilt():
     nose, r_eye, l_eye = (points[keypoint_index(n)] for n in ("nose", "r_eye", "l_eye"))
     normal = face_normal(nose, r_eye, l_eye)
     assert normal[0] < -0.8  # toward the robot, away from the back of the head
-    level = tilt_down(normal, IntentParams().face_tilt_deg)
+    # The synthetic face's nose is 0.18 head radii ahead of the eyes and 0.42 below them;
+    # the default (30 deg) is measured on lifted skeletons, whose eyes read deeper.
+    level = tilt_down(normal, math.degrees(math.atan2(0.18, 0.42)))
     pitch_down = math.degrees(-math.asin(level[2]))
     assert pitch_down == pytest.approx(math.degrees(0.2), abs=1.0)  # the head's own pitch
     assert face_normal(nose, nose, nose) is None
@@ -105,6 +108,21 @@ def test_frames_that_do_not_ask_say_why():
     mismatched = judge_frame(points, confidence, CUPS, params)
     assert mismatched.candidate is None
     assert mismatched.status in (GAZE_ELSEWHERE, NOTHING_POINTED_AT)
+
+
+def test_eyes_looking_over_the_table_do_not_ask_for_the_cup_the_arm_lies_toward():
+    """A straight arm toward a cup, the head looking ahead over the table: the estimated gaze
+    passes 20 degrees above the cup, beyond `gaze_pitch_tolerance_deg`; looking down at the
+    cup, it asks for it. (The synthetic face's tilt is its geometric 23 degrees.)"""
+    label, center = CUPS[1]
+    params = IntentParams(face_tilt_deg=math.degrees(math.atan2(0.18, 0.42)))
+    ahead = np.array([-1.0, 0.0, BODY.eye_z])  # far beyond the table, at eye height
+    points, confidence = keypoints(look_at=ahead, point_with="right", point_at=center)
+    over = judge_frame(points, confidence, CUPS, params)
+    assert (over.candidate, over.status) == (None, GAZE_ELSEWHERE)
+    assert pitch_errors_deg(over.gaze, center[None])[0] > params.gaze_pitch_tolerance_deg
+    points, confidence = keypoints(look_at=center, point_with="right", point_at=center)
+    assert judge_frame(points, confidence, CUPS, params).candidate == label
 
 
 def test_without_a_face_the_frame_is_unsure():
@@ -174,7 +192,13 @@ def test_looking_elsewhere_breaks_the_dwell():
 
 @pytest.mark.parametrize(
     "field, value",
-    [("straight_arm_deg", 90.0), ("d_min", 0.0), ("t_max", -1.0), ("pointing_ray", "nose")],
+    [
+        ("straight_arm_deg", 90.0),
+        ("d_min", 0.0),
+        ("t_max", -1.0),
+        ("pointing_ray", "nose"),
+        ("gaze_pitch_tolerance_deg", 0.0),
+    ],  # fmt: skip
 )
 def test_params_are_checked(field, value):
     with pytest.raises(ValueError, match=field):
@@ -223,8 +247,11 @@ def test_the_eyes_turn_head_gain_times_as_far_as_the_face():
     face = Ray(face.origin, face.direction / np.linalg.norm(face.direction))
     gaze = gaze_ray(face, np.array([1.0, 0.0, 0.0]), IntentParams(head_gain=1.5))
     assert math.atan2(gaze.direction[1], gaze.direction[0]) == pytest.approx(0.45)
-    assert gaze.direction[2] == pytest.approx(face.direction[2])
-    assert gaze_ray(face, None, IntentParams()) is face  # no torso: the face's own direction
+    assert math.asin(gaze.direction[2]) == pytest.approx(1.5 * math.asin(face.direction[2]))
+    alone = gaze_ray(face, None, IntentParams(head_gain=1.5))  # no torso: the face's heading
+    np.testing.assert_allclose(alone.direction[:2] / np.linalg.norm(alone.direction[:2]),
+                               face.direction[:2] / np.linalg.norm(face.direction[:2]))  # fmt: skip
+    assert alone.direction[2] == pytest.approx(gaze.direction[2])
     errors = bearing_errors_deg(gaze, np.array([[1.0, math.tan(0.45), -5.0], [1.0, 0.0, 0.0]]))
     np.testing.assert_allclose(errors, [0.0, math.degrees(0.45)], atol=1e-9)
 
@@ -276,7 +303,7 @@ def test_the_torso_direction_is_the_mean_of_the_resting_frames():
 @pytest.mark.parametrize("rate_hz", [30.0, 5.0])
 def test_a_held_arm_is_recognised_at_a_slow_camera_rate_too(rate_hz):
     """At 5 Hz the 0.4 s window holds two frames: the hold is judged from those."""
-    tracker = IntentTracker(IntentParams(t_max=0.5))
+    tracker = IntentTracker(IntentParams(t_max=0.5, smoothing_s=0.4))
     states = _frames(tracker, np.arange(0.0, 2.0, 1 / rate_hz))
     assert states[-1].target == "green"
     assert states[-1].recognised_time <= 0.5 + 0.4 + 1e-9

@@ -40,7 +40,7 @@ def _run(system, until: float, support=None, image_time=None):
 
 
 def test_recognises_after_the_dwell_from_its_own_frames():
-    system = IntentEstimator(period=0.1, params=IntentParams(t_max=0.3))
+    system = IntentEstimator(period=0.1, params=IntentParams(t_max=0.3, smoothing_s=0.4))
     unsure, _ = _run(system, 0.15)  # two frames: too few to tell a held arm from a sweep
     assert unsure.candidate is None and unsure.frame.status == ARM_MOVING
     early, _ = _run(system, 0.45)
