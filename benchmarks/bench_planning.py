@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from hsr_handover.effectivity.arm_map import load_or_build
-from hsr_handover.effectivity.person_map import PersonEffectivity, perceived_arm
+from hsr_handover.effectivity.person_map import PersonEffectivity
 from hsr_handover.experiments.trials import TrialProgress, run_trials
 from hsr_handover.experiments.true_clearance import TrueClearance
 from hsr_handover.experiments.watch import watch
@@ -115,9 +115,7 @@ def plan_scene(spec: SceneSpec) -> list[dict]:
     if not labels:
         records.append({**_record(spec, "grasp", "seeded", None, truth, by_color),
                         "reason": "no object perceived"})  # fmt: skip
-    skeleton = watched.percept("skeleton")
-    arms = (perceived_arm(skeleton.points, skeleton.confidence, side) for side in ("r", "l"))
-    arm = next((arm for arm in arms if arm is not None), None)
+    arm = watched.person_arm()
     person = None if arm is None else PersonEffectivity(arm)
     for label, q_held in holds[:HANDOVERS_PER_SCENE]:
         for variant in VARIANTS:

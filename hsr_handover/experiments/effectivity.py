@@ -12,7 +12,7 @@ import time
 import numpy as np
 
 from hsr_handover.effectivity.arm_map import ArmEffectivity, load_or_build
-from hsr_handover.effectivity.person_map import PersonEffectivity, perceived_arm
+from hsr_handover.effectivity.person_map import PersonEffectivity
 from hsr_handover.experiments.watch import watch
 from hsr_handover.kinematics.hsr_arm import palm_position, sample_arm_joints
 from hsr_handover.planning.handover_pose import HandoverPose, plan_handover_pose
@@ -21,7 +21,6 @@ from hsr_handover.scenario import Scenario
 
 WATCH_S = 3.5  # s the robot watches, looking round first: the table fitted, the person lifted
 RANDOM_TARGETS = 2000  # reachable palm positions for eq. 11's error away from the nodes
-SIDES = ("r", "l")  # the receiving arm: the right unless it is not seen
 
 
 @dataclasses.dataclass(frozen=True)
@@ -77,10 +76,8 @@ def run_effectivity(scenario: Scenario, watch_s: float = WATCH_S) -> Effectivity
     at_nodes, at_random = palm_errors(arm_map)
     watched = watch(scenario, watch_s, look_around=True)
     scene = watched.percept("perceived_scene")
-    skeleton = watched.percept("skeleton")
     graph = watched.percept("gng_graph")
-    arms = (perceived_arm(skeleton.points, skeleton.confidence, side) for side in SIDES)
-    arm = next((arm for arm in arms if arm is not None), None)
+    arm = watched.person_arm()
     person, handover, status = None, None, "no person seen (both shoulders needed)"
     if arm is not None:
         person = PersonEffectivity(arm)

@@ -4,26 +4,44 @@ start of every experiment that plans from what the robot perceives."""
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Iterable
 
 from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import Context
 
+from hsr_handover.effectivity.person_map import HumanArm, perceived_arm
 from hsr_handover.hsr import COMMANDED_JOINTS
+from hsr_handover.perception.skeleton import Skeleton
 from hsr_handover.scenario import Scenario
 from hsr_handover.simulation import Simulation, build_simulation
 
 LOOK_AROUND_PANS = (0.7, -0.7)  # rad of head pan: the table's ends, each side in turn
 LOOK_DWELL_S = 0.9  # s at each: the pan's move (1 rad/s) and a few table fits (5 Hz)
+RECEIVING_SIDE = "r"
+"""The person takes the object with the right arm (most people are right-handed); an arm whose
+elbow or wrist is not seen gets the body's proportions (`perceived_arm`)."""
+
+
+def receiving_arm(skeletons: Iterable[Skeleton]) -> HumanArm | None:
+    """The person's receiving arm from the first of `skeletons` (newest first) that shows both
+    shoulders; None if none does."""
+    for skeleton in skeletons:
+        arm = perceived_arm(skeleton.points, skeleton.confidence, RECEIVING_SIDE)
+        if arm is not None:
+            return arm
+    return None
 
 
 @dataclasses.dataclass
 class Watched:
     """The simulation after watching, its `simulator` (keeps the contexts alive) and `root`
-    context; `percept(name)` evaluates one of the robot's perception outputs."""
+    context, and the skeletons perceived at each stop of the look round (`glimpses`, oldest
+    first); `percept(name)` evaluates one of the robot's perception outputs now."""
 
     simulation: Simulation
     simulator: Simulator
     root: Context
+    glimpses: tuple[Skeleton, ...] = ()
 
     def percept(self, name: str):
         robot = self.simulation.robot.diagram
@@ -31,6 +49,11 @@ class Watched:
 
     def measured_positions(self) -> dict[str, float]:
         return self.simulation.measured_positions(self.root)
+
+    def person_arm(self) -> HumanArm | None:
+        """The receiving arm as last seen: now, or else at the latest look-round stop that
+        showed both shoulders (a person beside a moved table can be out of view ahead)."""
+        return receiving_arm((self.percept("skeleton"), *reversed(self.glimpses)))
 
 
 def watch(scenario: Scenario, seconds: float, look_around: bool = False) -> Watched:
@@ -41,22 +64,26 @@ def watch(scenario: Scenario, seconds: float, look_around: bool = False) -> Watc
     scenario = dataclasses.replace(scenario, perception=perception)
     simulation = build_simulation(scenario)
     simulator = Simulator(simulation.diagram)
-    if look_around:
-        _look_around(simulation, simulator)
+    glimpses = _look_around(simulation, simulator) if look_around else ()
     simulator.AdvanceTo(max(seconds, simulator.get_context().get_time()))
-    return Watched(simulation, simulator, simulator.get_context())
+    return Watched(simulation, simulator, simulator.get_context(), glimpses)
 
 
-def _look_around(simulation: Simulation, simulator: Simulator) -> None:
+def _look_around(simulation: Simulation, simulator: Simulator) -> tuple[Skeleton, ...]:
     """A stand-in for the supervisor's look round (issue 10): the ready posture's head pan
-    stepped through LOOK_AROUND_PANS, then back to where it was."""
+    stepped through LOOK_AROUND_PANS, then back to where it was; the skeleton perceived at
+    the end of each stop."""
     posture = simulation.robot.diagram.GetSubsystemByName("ready_posture")
     context = posture.GetMyMutableContextFromRoot(simulator.get_mutable_context())
     command = posture.get_mutable_source_value(context)
     pan = COMMANDED_JOINTS.index("head_pan_joint")
     start = command.get_value()[pan]
+    robot, glimpses = simulation.robot.diagram, []
     for angle in (*LOOK_AROUND_PANS, start):
         value = command.get_value().copy()
         value[pan] = angle
         command.set_value(value)
         simulator.AdvanceTo(simulator.get_context().get_time() + LOOK_DWELL_S)
+        robot_context = simulation.robot_context(simulator.get_context())
+        glimpses.append(robot.GetOutputPort("skeleton").Eval(robot_context))
+    return tuple(glimpses)
