@@ -162,16 +162,11 @@ def path_clearance(scene: PlanningScene, path, ignore: tuple[str, ...], samples:
     """The least clearance (m) at `samples` evenly spaced times along a path or trajectory with
     `value(t)` and `start_time()`, `end_time()`."""
     times = np.linspace(path.start_time(), path.end_time(), samples)
-    return min(_clearance_at(scene, path.value(t).ravel(), ignore) for t in times)
+    return min(scene.clearance_at(path.value(t).ravel(), ignore) for t in times)
 
 
 def timed_clearance(scene: PlanningScene, motion: Motion, step: float = CHECK_STEP) -> float:
     """The least clearance (m) of a timed motion checked every `step` s (DESIGN §6: the
     optimiser's samples alone let the path dip between them)."""
     times, positions = motion.timed.sample(step)
-    return min(_clearance_at(scene, q, motion.ignore) for q in positions)
-
-
-def _clearance_at(scene: PlanningScene, q: np.ndarray, ignore: tuple[str, ...]) -> float:
-    scene.plant.SetPositions(scene.plant_context, q)
-    return scene.clearance(ignore)[0]
+    return min(scene.clearance_at(q, motion.ignore) for q in positions)

@@ -3,8 +3,9 @@ geometry, what the robot perceives (DESIGN §3.4). Never the simulation's plant:
 
 The table is a solid block from the floor to its fitted top (the camera cannot see under it,
 so no plan goes there); each object a cylinder or box; the person a capsule per bone. Table and
-objects are widened by SOLID_MARGIN, the person's capsules by their own margin. The HSR's
-own links do not collide with one another here: the arm's joint limits keep it off its body.
+objects are widened by TABLE_MARGIN and OBJECT_MARGIN, the person's capsules by their own
+margin. The HSR's own links do not collide with one another here: the arm's joint limits keep
+it off its body.
 """
 
 from __future__ import annotations
@@ -43,24 +44,27 @@ from hsr_handover.planning.perceived_scene import Capsule, PerceivedScene
 PLANNING_TIME_STEP = 0.01  # s: the HSR's mimic couplings need a discrete plant; never stepped
 TABLE, PERSON = "table", "person"
 NEAR = 0.5  # m: distances beyond this are not computed
-SOLID_MARGIN = 0.01
-"""m added round the table's and each object's sides and top: the fits are good to about a
-centimetre, and a box's back, hidden from the camera, can be 2 cm deeper than it is seen."""
+TABLE_MARGIN = 0.01
+"""m added round the table's sides and top: the fit is good to about a centimetre."""
+OBJECT_MARGIN = 0.02
+"""m added round each object's sides and top: an object is sized from the side the camera
+sees, and its back, hidden, can be 2 cm deeper than seen (a hand on its way to a cup's
+pre-grasp came within 0.5 cm of it with 1 cm here)."""
 
 
 def _table_block(table: TableEstimate) -> tuple[Shape, RigidTransform]:
-    height = table.height + SOLID_MARGIN
+    height = table.height + TABLE_MARGIN
     pose = RigidTransform(RotationMatrix.MakeZRotation(table.yaw), [*table.center, height / 2])
-    return Box(*(table.size + 2 * SOLID_MARGIN), height), pose
+    return Box(*(table.size + 2 * TABLE_MARGIN), height), pose
 
 
 def _object_solid(shape: ObjectShape) -> tuple[Shape, RigidTransform]:
-    height = shape.height + SOLID_MARGIN
+    height = shape.height + OBJECT_MARGIN
     center = [*shape.center, shape.bottom + height / 2]
     pose = RigidTransform(RotationMatrix.MakeZRotation(shape.yaw), center)
     if shape.kind == CYLINDER:
-        return Cylinder(shape.radius + SOLID_MARGIN, height), pose
-    return Box(*(shape.size + 2 * SOLID_MARGIN), height), pose
+        return Cylinder(shape.radius + OBJECT_MARGIN, height), pose
+    return Box(*(shape.size + 2 * OBJECT_MARGIN), height), pose
 
 
 def _capsule_solid(capsule: Capsule) -> tuple[Shape, RigidTransform]:
@@ -155,6 +159,11 @@ class PlanningScene:
 
     def query(self) -> QueryObject:
         return self.plant.get_geometry_query_input_port().Eval(self.plant_context)
+
+    def clearance_at(self, q: np.ndarray, ignore: tuple[str, ...] = ()) -> float:
+        """The least signed distance (m) with the HSR put at `q` (plant positions)."""
+        self.plant.SetPositions(self.plant_context, q)
+        return self.clearance(ignore)[0]
 
     def clearance(self, ignore: tuple[str, ...] = ()) -> tuple[float, str]:
         """The least signed distance (m) between the HSR and any obstacle but those named in

@@ -6,6 +6,11 @@ held, and at least COLLISION_BOUND from every obstacle not ignored at COLLISION_
 
 The bound is larger than the planner's true margin: between samples the path may dip by up to
 about 11 mm (DESIGN §6), so the timed trajectory is checked afterwards every 10 ms.
+
+A start that the perceived scene already puts nearer than the bound (perception errs toward
+bulk: a table's unseen end runs on, a person's unseen body is a column to the floor) would make
+every path infeasible; over the first ESCAPE_SHARE of such a path the samples need only stay as
+far as the start was, less ESCAPE_SLACK.
 """
 
 from __future__ import annotations
@@ -31,6 +36,8 @@ STOWED = {"arm_lift_joint": 0.0, "torso_lift_joint": 0.0, "arm_flex_joint": 0.0,
 COLLISION_SAMPLES = 30
 COLLISION_BOUND = 0.013  # m at the samples: about 1 cm everywhere between them
 INFLUENCE = 0.05  # m beyond the bound where distances start to count
+ESCAPE_SHARE = 0.3  # of the path over which a start within the bound may stay that near
+ESCAPE_SLACK = 0.005  # m nearer than the start it may come meanwhile
 MAX_DURATION = 30.0  # s of the path's nominal time (toppra retimes it)
 FREE_POSITION = 20.0  # m: stands in for the base's unbounded x and y
 
@@ -89,12 +96,13 @@ def optimize_path(
     for an infeasible problem: `ok` is False and `reason` says why."""
     start = time.perf_counter()
     guess = straight_guess(q_start, q_goal) if guess is None else guess
+    bounds = sample_bounds(scene.clearance_at(q_start, ignore))
     with scene.ignoring(ignore):
-        trajopt, constraint = _build(scene, q_start, q_goal, guess.shape[1])
+        trajopt, constraints = _build(scene, q_start, q_goal, guess.shape[1], bounds)
         trajopt.SetInitialGuess(BsplineTrajectory(trajopt.basis(), guess * 1.0))
         result = Solve(trajopt.prog())
         usable = solved(trajopt.prog(), result)
-        del constraint  # the solve is done; the constraint held the plant context
+        del constraints  # the solve is done; the constraints held the plant context
     seconds = time.perf_counter() - start
     if not usable:
         reason = f"no path ({result.get_solver_id().name()} {result.get_solution_result().name})"
@@ -102,7 +110,24 @@ def optimize_path(
     return PathResult(True, "ok", trajopt.ReconstructTrajectory(result), seconds)
 
 
-def _build(scene: PlanningScene, q_start: np.ndarray, q_goal: np.ndarray, control_points: int):
+def sample_bounds(start_clearance: float) -> np.ndarray:
+    """The least distance (m) to keep at each of the COLLISION_SAMPLES, evenly spaced over the
+    path: COLLISION_BOUND, or for a start already nearer, the start's own clearance less
+    ESCAPE_SLACK over the first ESCAPE_SHARE."""
+    spots = np.linspace(0.0, 1.0, COLLISION_SAMPLES)
+    bounds = np.full(COLLISION_SAMPLES, COLLISION_BOUND)
+    if start_clearance < COLLISION_BOUND:
+        bounds[spots <= ESCAPE_SHARE] = start_clearance - ESCAPE_SLACK
+    return bounds
+
+
+def _build(
+    scene: PlanningScene,
+    q_start: np.ndarray,
+    q_goal: np.ndarray,
+    control_points: int,
+    bounds: np.ndarray,
+):
     plant = scene.plant
     nq = plant.num_positions()
     trajopt = KinematicTrajectoryOptimization(nq, control_points)
@@ -122,9 +147,12 @@ def _build(scene: PlanningScene, q_start: np.ndarray, q_goal: np.ndarray, contro
     for j in range(points.shape[1]):
         prog.AddLinearEqualityConstraint(A, b, points[:, j])
         prog.AddBoundingBoxConstraint(q_start[held], q_start[held], points[held, j])
-    constraint = MinimumDistanceLowerBoundConstraint(
-        plant, COLLISION_BOUND, scene.plant_context, None, INFLUENCE
-    )
-    for s in np.linspace(0, 1, COLLISION_SAMPLES):
-        trajopt.AddPathPositionConstraint(constraint, s)
-    return trajopt, constraint
+    constraints = {
+        bound: MinimumDistanceLowerBoundConstraint(
+            plant, bound, scene.plant_context, None, INFLUENCE
+        )
+        for bound in set(bounds.tolist())
+    }
+    for s, bound in zip(np.linspace(0, 1, COLLISION_SAMPLES), bounds, strict=True):
+        trajopt.AddPathPositionConstraint(constraints[float(bound)], s)
+    return trajopt, constraints

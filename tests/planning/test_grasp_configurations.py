@@ -7,7 +7,9 @@ import dataclasses
 
 import numpy as np
 import pytest
+import scipy.optimize
 
+from hsr_handover.effectivity import mutual_area
 from hsr_handover.effectivity.arm_map import load_or_build
 from hsr_handover.effectivity.mutual_area import ABOVE_TABLE
 from hsr_handover.effectivity.person_map import HumanArm, PersonEffectivity
@@ -22,7 +24,13 @@ from hsr_handover.planning.perceived_scene import Capsule, PerceivedScene
 from hsr_handover.planning.planner import STAGES, plan_grasp, plan_handover, timed_clearance
 from hsr_handover.planning.planning_scene import PlanningScene
 from hsr_handover.planning.timing import joint_limits
-from hsr_handover.planning.trajectory import COLLISION_BOUND, optimize_path
+from hsr_handover.planning.trajectory import (
+    COLLISION_BOUND,
+    ESCAPE_SHARE,
+    ESCAPE_SLACK,
+    optimize_path,
+    sample_bounds,
+)
 
 TABLE_TOP = 0.72
 CUPS = {"red": -0.22, "green": 0.0, "blue": 0.22}
@@ -77,7 +85,8 @@ def test_each_cup_gets_a_grasp_clear_of_all_but_itself(scene, arm_map, label):
     lifted, _ = _pads(scene, result.q_lifted)
     assert np.all(np.abs(lifted - grasp.lifted_point) <= 0.0051)
     np.testing.assert_allclose(result.q_lifted[:3], result.q_grasp[:3])  # the base stays
-    assert scene.clearance()[0] >= MIN_DISTANCE - 1e-3  # the target too, before closing in
+    # Standing off before closing in, the hand keeps clear of the target too.
+    assert scene.clearance_at(result.q_pregrasp) >= MIN_DISTANCE - 1e-3
     base = result.q_grasp[[scene.index(joint) for joint in BASE_JOINTS[:2]]]
     assert np.linalg.norm(base - q_now[:2]) > 0.1  # the cups are out of reach from the start
 
@@ -117,6 +126,37 @@ def test_the_optimised_path_keeps_clear_at_its_samples_and_joins_its_ends(scene,
     assert min(clearances) > COLLISION_BOUND - 0.012  # may dip between the optimiser's samples
 
 
+def test_only_the_first_stretch_of_a_path_from_a_near_start_may_stay_near():
+    bounds = sample_bounds(0.004)
+    spots = np.linspace(0.0, 1.0, len(bounds))
+    assert np.all(bounds[spots <= ESCAPE_SHARE] == pytest.approx(0.004 - ESCAPE_SLACK))
+    assert np.all(bounds[spots > ESCAPE_SHARE] == COLLISION_BOUND)
+    assert np.all(sample_bounds(0.05) == COLLISION_BOUND)
+
+
+def test_a_start_the_perceived_table_crowds_still_gets_a_path(scene, arm_map):
+    """The base driven up to 6 mm from the table's edge (inside the 13 mm bound): the path
+    gets away from it, no nearer than it began, and on to the pre-grasp."""
+    q_now = _ready(scene)
+    x = scene.index(BASE_JOINTS[0])
+
+    def clearance(base_x: float) -> float:
+        q = q_now.copy()
+        q[x] = base_x
+        return scene.clearance_at(q) - 0.006
+
+    q_now[x] = scipy.optimize.brentq(clearance, 0.0, 0.4, xtol=1e-4)
+    start = scene.clearance_at(q_now)
+    assert start < COLLISION_BOUND
+    target = grasp_configurations(scene, arm_map, "green", q_now)
+    result = optimize_path(scene, q_now, target.q_pregrasp)
+    assert result.ok, result.reason
+    path = result.path
+    times = np.linspace(path.start_time(), path.end_time(), 100)
+    clearances = [scene.clearance_at(path.value(t).ravel()) for t in times]
+    assert min(clearances) > start - ESCAPE_SLACK - 0.012  # may dip between the samples
+
+
 def test_the_handover_pose_meets_the_person_at_a_mutual_node(scene, arm_map):
     shoulder = np.array([1.75, 0.19, 1.03])
     frame = np.column_stack([[-1.0, 0, 0], [0, -1.0, 0], [0, 0, 1.0]])  # facing the robot
@@ -132,6 +172,25 @@ def test_the_handover_pose_meets_the_person_at_a_mutual_node(scene, arm_map):
     # The table is in front of the seated person: the robot comes round it to their side.
     base = pose.q[[scene.index(joint) for joint in BASE_JOINTS]]
     assert base[0] > 0.845 + 0.3 and abs(base[1]) > 0.3, base
+
+
+def test_a_person_standing_behind_a_wide_table_is_handed_to_from_the_side(arm_map, monkeypatch):
+    """The table's far edge 0.45 m in front of a standing person and 1.4 m wide: the robot
+    cannot stand anywhere to reach the point straight ahead of them, so it aims at the point
+    turned toward the receiving (right) arm's side, which it reaches from beside the table."""
+    table = TableEstimate(0.76, np.array([0.845, 0.0]), np.array([0.6, 1.4]), 0.0, 6000)
+    x = 0.845 + 0.3 + 0.45
+    body = (Capsule(np.array([x + 0.05, 0, 0.2]), np.array([x + 0.05, 0, 1.45]), 0.2),)
+    standing = PlanningScene(PerceivedScene(table, (), body))
+    frame = np.column_stack([[-1.0, 0, 0], [0, -1.0, 0], [0, 0, 1.0]])
+    person = PersonEffectivity(HumanArm("r", np.array([x, 0.19, 1.43]), frame, 0.33, 0.27, 0.09))
+    pose = plan_handover_pose(standing, arm_map, person, _ready(standing))
+    assert pose.ok, pose.reason
+    assert pose.ideal[1] > person.arm.shoulder[1] + 0.1  # turned to the person's right (+y)
+    assert person.reachable(pose.point[None])[0]
+    monkeypatch.setattr(mutual_area, "SIDE_TURNS_DEG", (0.0,))
+    straight = plan_handover_pose(standing, arm_map, person, _ready(standing))
+    assert not straight.ok and straight.reason.startswith(NO_MUTUAL_AREA)
 
 
 def test_a_person_out_of_every_reach_has_no_mutual_area(scene, arm_map):

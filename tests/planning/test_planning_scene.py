@@ -10,7 +10,13 @@ import pytest
 from hsr_handover.perception.object_shapes import CYLINDER, ObjectShape
 from hsr_handover.perception.table_fit import TableEstimate
 from hsr_handover.planning.perceived_scene import Capsule, PerceivedScene
-from hsr_handover.planning.planning_scene import PERSON, SOLID_MARGIN, TABLE, PlanningScene
+from hsr_handover.planning.planning_scene import (
+    OBJECT_MARGIN,
+    PERSON,
+    TABLE,
+    TABLE_MARGIN,
+    PlanningScene,
+)
 
 TABLE_TOP = 0.72
 TABLE_NEAR_EDGE = 0.6  # m ahead of the robot's base
@@ -38,14 +44,15 @@ def test_every_percept_becomes_named_collision_geometry(scene):
     assert set(scene.geometry) == {TABLE, "red", PERSON}
     inspector = scene.query().inspector()
     (table,) = scene.geometry[TABLE]
-    margin = SOLID_MARGIN
+    margin = TABLE_MARGIN
     size = [0.6 + 2 * margin, 1.0 + 2 * margin, TABLE_TOP + margin]
     np.testing.assert_allclose(inspector.GetShape(table).size(), size)
     # The block stands on the floor: its top is the table's top, and a margin.
     center = inspector.GetPoseInFrame(table).translation()[2]
     assert center == pytest.approx((TABLE_TOP + margin) / 2)
     (cup,) = scene.geometry["red"]
-    assert inspector.GetShape(cup).radius() == pytest.approx(0.035 + margin)
+    assert inspector.GetShape(cup).radius() == pytest.approx(0.035 + OBJECT_MARGIN)
+    assert inspector.GetShape(cup).length() == pytest.approx(0.10 + OBJECT_MARGIN)
 
 
 def test_clearance_follows_the_base_toward_the_table(scene):
