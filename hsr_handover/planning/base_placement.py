@@ -76,10 +76,11 @@ def place_base(
     approach: np.ndarray,
     closing: np.ndarray,
     q_now: np.ndarray,
+    ignore: tuple[str, ...] = (),
 ) -> list[BasePlacement]:
     """Base poses and arm seeds for putting the pads' centre at `point` along `approach`, best
-    first. With no map (the unseeded baseline) there is one candidate at PREFERRED_REACH with
-    the arm as it is now."""
+    first, clear of all but `ignore` (an object held). With no map (the unseeded baseline)
+    there is one candidate at PREFERRED_REACH with the arm as it is now."""
     palm = np.asarray(point, float) - PAD_OFFSET * np.asarray(approach, float)
     robot_xy = q_now[[scene.index(BASE_JOINTS[0]), scene.index(BASE_JOINTS[1])]]
     yaw = base_yaw(approach, palm - np.array([*robot_xy, palm[2]]))
@@ -93,7 +94,7 @@ def place_base(
         if arm_map is not None and not arm_map.reachable(local[None])[0]:
             continue
         q = _at_base(scene, q_now, base_pose(palm, yaw, reach), yaw)
-        clearance = _folded_clearance(scene, q)
+        clearance = _folded_clearance(scene, q, ignore)
         if clearance < BASE_CLEARANCE:
             continue
         if arm_map is not None:
@@ -118,9 +119,8 @@ def _set_arm(scene: PlanningScene, q: np.ndarray, arm: np.ndarray) -> None:
     q[scene.index(TORSO_JOINT)] = 0.5 * arm[0]
 
 
-def _folded_clearance(scene: PlanningScene, q: np.ndarray) -> float:
+def _folded_clearance(scene: PlanningScene, q: np.ndarray, ignore: tuple[str, ...]) -> float:
     """The robot's clearance at q's base with the arm straight up (folded over the base)."""
     folded = q.copy()
     _set_arm(scene, folded, np.zeros(len(ARM_JOINTS)))
-    scene.plant.SetPositions(scene.plant_context, folded)
-    return scene.clearance()[0]
+    return scene.clearance_at(folded, ignore)

@@ -1,11 +1,12 @@
 """Where the robot stands and holds the object out for the person (issue 9, parts 3 and 5).
 
-The person's effectivity gives the ideal handover point (effectivity.mutual_area's rule). The
-robot faces the person from the front if it can stand there, else turned round the person by
+The person's effectivity gives the ideal handover point (effectivity.mutual_area's rule), and
+after it the same point turned toward the receiving arm's side. For each aim in turn, the robot
+faces the person from the front if it can stand there, else turned round the person by
 HANDOVER_TURNS_DEG, up to their side (the table is usually in front of a seated person); at the
 first base pose that keeps clear, the arm's effectivity map placed there meets the person's
-range in the mutual area, the handover point is the mutual node nearest the ideal, and inverse
-kinematics, seeded by eq. 11 at the ideal point, confirms the hand reaches it.
+range in the mutual area, the handover point is the mutual node nearest the aim, and inverse
+kinematics, seeded by eq. 11 at the aim, confirms the hand reaches it.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ import math
 import numpy as np
 
 from hsr_handover.effectivity.arm_map import ArmEffectivity
-from hsr_handover.effectivity.mutual_area import handover_point, ideal_handover_point
+from hsr_handover.effectivity.mutual_area import handover_aims, handover_point
 from hsr_handover.effectivity.person_map import PersonEffectivity
 from hsr_handover.hsr import BASE_JOINTS, GRIPPER_JOINT
 from hsr_handover.planning.base_placement import place_base
@@ -33,7 +34,8 @@ NO_MUTUAL_AREA = "no mutual area"
 class HandoverPose:
     """`ok` with the configuration `q` handing over at `point` (world, m), or not with the
     `reason`. `robot_nodes` (n, 3, world) is the arm's map at the chosen base and `mutual` the
-    mask of those the person reaches too; `ideal` is the rule's point."""
+    mask of those the person reaches too; `ideal` is the rule's point aimed at (the first aim
+    when none worked)."""
 
     ok: bool
     reason: str
@@ -59,17 +61,24 @@ def unseeded_handover_pose(
 ) -> HandoverPose:
     """The baseline without the arm's map: the hand at the rule's ideal point, the base a
     fixed reach from it, facing the person or turned round them, IK from the arm as it is."""
-    ideal = ideal_handover_point(person.arm)
     opening = 2 * q_now[scene.index(GRIPPER_JOINT)]
     reason = f"{NO_MUTUAL_AREA}: no base pose clear of the scene reaches the person"
-    for approach, closing in _approaches(person):
-        for placement in place_base(scene, None, ideal, approach, closing, q_now):
-            goal = PalmGoal(ideal, approach, closing, opening)
+    aims = handover_aims(person.arm)
+    for aim, (approach, closing) in _aims_and_approaches(aims, person):
+        for placement in place_base(scene, None, aim, approach, closing, q_now, ignore):
+            goal = PalmGoal(aim, approach, closing, opening)
             result = solve_palm_ik(scene, goal, placement.q, ignore=ignore)
             if result.ok:
-                return HandoverPose(True, "ok", ideal, ideal, result.q)
+                return HandoverPose(True, "ok", aim, aim, result.q)
             reason = f"unreachable: {result.reason} at the handover point"
-    return HandoverPose(False, reason, ideal)
+    return HandoverPose(False, reason, aims[0])
+
+
+def _aims_and_approaches(aims: list[np.ndarray], person: PersonEffectivity):
+    """Each aim with each approach, the aims in turn."""
+    for aim in aims:
+        for approach, closing in _approaches(person):
+            yield aim, (approach, closing)
 
 
 def _approaches(person: PersonEffectivity):
@@ -92,14 +101,15 @@ def plan_handover_pose(
     """The robot's handover configuration from `q_now` (plant positions; the gripper as it
     holds the object), clear of all but `ignore` (the object held). Never raises: an
     unreachable person gives `ok` False and why."""
-    ideal = ideal_handover_point(person.arm)
     table = None if scene.scene.table is None else scene.scene.table.height
     reason = f"{NO_MUTUAL_AREA}: no base pose clear of the scene reaches the person"
-    for approach, closing in _approaches(person):
-        for placement in place_base(scene, arm_map, ideal, approach, closing, q_now)[:1]:
+    aims = handover_aims(person.arm)
+    for aim, (approach, closing) in _aims_and_approaches(aims, person):
+        for placement in place_base(scene, arm_map, aim, approach, closing, q_now, ignore)[:1]:
             base = placement.q[[scene.index(joint) for joint in BASE_JOINTS]]
             robot_nodes = nodes_in_world(arm_map, base)
-            point, mutual = handover_point(robot_nodes, person, table, scene.scene.person)
+            body = scene.scene.person
+            point, mutual = handover_point(robot_nodes, person, table, body, aim)
             if point is None:
                 reason = f"{NO_MUTUAL_AREA}: the areas do not meet where the robot can stand"
                 continue
@@ -107,6 +117,6 @@ def plan_handover_pose(
             goal = PalmGoal(point, approach, closing, opening)
             result = solve_palm_ik(scene, goal, placement.q, ignore=ignore)
             if result.ok:
-                return HandoverPose(True, "ok", ideal, point, result.q, robot_nodes, mutual)
+                return HandoverPose(True, "ok", aim, point, result.q, robot_nodes, mutual)
             reason = f"unreachable: {result.reason} at the handover point"
-    return HandoverPose(False, reason, ideal)
+    return HandoverPose(False, reason, aims[0])

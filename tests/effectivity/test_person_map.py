@@ -10,6 +10,8 @@ import pytest
 from hsr_handover.effectivity.mutual_area import (
     ABOVE_TABLE,
     COMFORT_REACH,
+    SIDE_TURNS_DEG,
+    handover_aims,
     handover_point,
     ideal_handover_point,
 )
@@ -70,6 +72,30 @@ def test_the_ideal_point_is_ahead_of_the_shoulder_below_its_level():
     assert np.linalg.norm(offset) == pytest.approx(COMFORT_REACH * arm.reach)
     assert offset[0] < 0 and abs(offset[1]) < 1e-12 and offset[2] < 0  # toward the robot
     assert math.degrees(math.atan2(-offset[2], -offset[0])) == pytest.approx(20.0)
+
+
+@pytest.mark.parametrize("side, sign", [("r", 1.0), ("l", -1.0)])
+def test_the_side_aims_turn_toward_the_receiving_arms_side(side, sign):
+    """Facing -x, the person's right is the world's +y; each aim keeps the ideal's reach and
+    height, turned about the shoulder."""
+    arm = _arm(side)
+    aims = handover_aims(arm)
+    assert len(aims) == len(SIDE_TURNS_DEG)
+    np.testing.assert_allclose(aims[0], ideal_handover_point(arm))
+    straight = aims[0] - arm.shoulder
+    for turn, aim in zip(SIDE_TURNS_DEG, aims, strict=True):
+        offset = aim - arm.shoulder
+        assert np.linalg.norm(offset) == pytest.approx(np.linalg.norm(straight))
+        assert offset[2] == pytest.approx(straight[2])
+        bearing = math.degrees(math.atan2(offset[1], -offset[0]))  # from ahead toward +y
+        assert bearing == pytest.approx(sign * turn)
+
+
+def test_the_handover_point_nearest_an_aim(person):
+    aim = handover_aims(person.arm)[2]
+    nodes = np.array([ideal_handover_point(person.arm), aim + [0.02, 0.0, 0.0]])
+    point, _ = handover_point(nodes, person, None, (), aim)
+    np.testing.assert_allclose(point, nodes[1])
 
 
 def test_the_handover_point_is_the_suitable_mutual_node_nearest_the_ideal(person):
