@@ -78,6 +78,7 @@ def _parser() -> argparse.ArgumentParser:
     effectivity.add_argument("scenario", type=Path, help="scenario YAML with a person")
     effectivity.add_argument("--plot", type=Path, help="figure to write (.png)")
     effectivity.add_argument("--json", type=Path, help="summary to write (.json)")
+    effectivity.add_argument("--html", type=Path, help="replay with the figures to write (.html)")
     _add_experiment_parsers(commands)
     return parser
 
@@ -194,8 +195,9 @@ def _effectivity(args: argparse.Namespace) -> int:
 
     scenario = load_scenario(args.scenario)
     outputs = {"plot": _output_path(args.plot, "--plot", ".png"),
-               "json": _output_path(args.json, "--json", ".json")}  # fmt: skip
-    result = run_effectivity(scenario)
+               "json": _output_path(args.json, "--json", ".json"),
+               "html": _output_path(args.html, "--html", ".html")}  # fmt: skip
+    result = run_effectivity(scenario, replay=outputs["html"])
     for name, write in (("plot", plot), ("json", write_json)):
         if outputs[name] is not None:
             write(result, outputs[name])

@@ -130,6 +130,12 @@ def _scene_points(scenario: Scenario) -> np.ndarray:
     ])  # fmt: skip
 
 
+def start_replay(meshcat: Meshcat, scenario: Scenario) -> None:
+    """Frame the robot, the table and the person, and start recording the replay."""
+    frame_view(meshcat, _scene_points(scenario), side=scenario.robot.base_pose[:2])
+    start_recording(meshcat, scenario.simulation.replay_fps)
+
+
 def run_scenario(
     scenario: Scenario,
     replay: Path | None = None,
@@ -147,8 +153,7 @@ def run_scenario(
         simulator.get_mutable_context(), RandomGenerator(scenario.simulation.seed)
     )
     if meshcat is not None:
-        frame_view(meshcat, _scene_points(scenario), side=scenario.robot.base_pose[:2])
-        start_recording(meshcat, scenario.simulation.replay_fps)
+        start_replay(meshcat, scenario)
     duration = scenario.simulation.duration
     # At most 100 progress reports, at least 20 ms apart; counted in whole steps so the last
     # lands on the duration itself, not a rounding error short of it.

@@ -8,15 +8,18 @@ from __future__ import annotations
 
 import dataclasses
 import time
+from pathlib import Path
 
 import numpy as np
 
 from hsr_handover.effectivity.arm_map import ArmEffectivity, load_or_build
 from hsr_handover.effectivity.person_map import PersonEffectivity
+from hsr_handover.experiments.effectivity_replay import draw_effectivity
 from hsr_handover.experiments.watch import watch
 from hsr_handover.kinematics.hsr_arm import palm_position, sample_arm_joints
 from hsr_handover.planning.handover_pose import HandoverPose, plan_handover_pose
 from hsr_handover.planning.planning_scene import PlanningScene
+from hsr_handover.replay import write_replay
 from hsr_handover.scenario import Scenario
 
 WATCH_S = 3.5  # s the robot watches, looking round first: the table fitted, the person lifted
@@ -68,13 +71,16 @@ def palm_errors(arm_map: ArmEffectivity, seed: int = 1) -> tuple[float, float]:
             float(np.median(arm_map.palm_errors(targets))))  # fmt: skip
 
 
-def run_effectivity(scenario: Scenario, watch_s: float = WATCH_S) -> EffectivityResult:
+def run_effectivity(
+    scenario: Scenario, watch_s: float = WATCH_S, replay: Path | None = None
+) -> EffectivityResult:
     """Watch the scenario for `watch_s` (perception on, whatever the file says; the head looks
-    round the table first), then compute the figures from the percepts."""
+    round the table first), then compute the figures from the percepts. With `replay`, the
+    watch is written there as an HTML replay with the figures drawn over it."""
     start = time.perf_counter()
     arm_map, _ = load_or_build()
     at_nodes, at_random = palm_errors(arm_map)
-    watched = watch(scenario, watch_s, look_around=True)
+    watched = watch(scenario, watch_s, look_around=True, replay=replay is not None)
     scene = watched.percept("perceived_scene")
     graph = watched.percept("gng_graph")
     arm = watched.person_arm()
@@ -85,6 +91,10 @@ def run_effectivity(scenario: Scenario, watch_s: float = WATCH_S) -> Effectivity
         planning.set_positions(watched.measured_positions())
         handover = plan_handover_pose(planning, arm_map, person, planning.positions())
         status = handover.reason
-    return EffectivityResult(arm_map.nodes, arm_map.cells.edges, at_nodes, at_random,
-                             np.asarray(graph.nodes), person, handover, status,
-                             time.perf_counter() - start)  # fmt: skip
+    result = EffectivityResult(arm_map.nodes, arm_map.cells.edges, at_nodes, at_random,
+                               np.asarray(graph.nodes), person, handover, status,
+                               time.perf_counter() - start)  # fmt: skip
+    if watched.meshcat is not None:
+        draw_effectivity(watched.meshcat, result)
+        write_replay(watched.meshcat, replay)
+    return result

@@ -6,6 +6,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Iterable
 
+from pydrake.geometry import Meshcat
 from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import Context
 
@@ -13,7 +14,7 @@ from hsr_handover.effectivity.person_map import HumanArm, perceived_arm
 from hsr_handover.hsr import COMMANDED_JOINTS
 from hsr_handover.perception.skeleton import Skeleton
 from hsr_handover.scenario import Scenario
-from hsr_handover.simulation import Simulation, build_simulation
+from hsr_handover.simulation import Simulation, prepare_simulation, start_replay
 
 LOOK_AROUND_PANS = (0.7, -0.7)  # rad of head pan: the table's ends, each side in turn
 LOOK_DWELL_S = 0.9  # s at each: the pan's move (1 rad/s) and a few table fits (5 Hz)
@@ -35,13 +36,15 @@ def receiving_arm(skeletons: Iterable[Skeleton]) -> HumanArm | None:
 @dataclasses.dataclass
 class Watched:
     """The simulation after watching, its `simulator` (keeps the contexts alive) and `root`
-    context, and the skeletons perceived at each stop of the look round (`glimpses`, oldest
-    first); `percept(name)` evaluates one of the robot's perception outputs now."""
+    context, the skeletons perceived at each stop of the look round (`glimpses`, oldest
+    first), and the Meshcat recording the replay (None without one); `percept(name)` evaluates
+    one of the robot's perception outputs now."""
 
     simulation: Simulation
     simulator: Simulator
     root: Context
     glimpses: tuple[Skeleton, ...] = ()
+    meshcat: Meshcat | None = None
 
     def percept(self, name: str):
         robot = self.simulation.robot.diagram
@@ -56,17 +59,22 @@ class Watched:
         return receiving_arm((self.percept("skeleton"), *reversed(self.glimpses)))
 
 
-def watch(scenario: Scenario, seconds: float, look_around: bool = False) -> Watched:
+def watch(
+    scenario: Scenario, seconds: float, look_around: bool = False, replay: bool = False
+) -> Watched:
     """Simulate `scenario` for `seconds` with perception on, whatever the file says. With
     `look_around`, the head first pans to each of LOOK_AROUND_PANS for LOOK_DWELL_S (so the
-    table's ends come into view), then back, before the remaining time."""
+    table's ends come into view), then back, before the remaining time. With `replay`, the
+    run is recorded in a Meshcat (`Watched.meshcat`; `replay.write_replay` writes it)."""
     perception = dataclasses.replace(scenario.perception, enabled=True)
     scenario = dataclasses.replace(scenario, perception=perception)
-    simulation = build_simulation(scenario)
+    simulation, meshcat = prepare_simulation(scenario, with_meshcat=replay)
     simulator = Simulator(simulation.diagram)
+    if meshcat is not None:
+        start_replay(meshcat, scenario)
     glimpses = _look_around(simulation, simulator) if look_around else ()
     simulator.AdvanceTo(max(seconds, simulator.get_context().get_time()))
-    return Watched(simulation, simulator, simulator.get_context(), glimpses)
+    return Watched(simulation, simulator, simulator.get_context(), glimpses, meshcat)
 
 
 def _look_around(simulation: Simulation, simulator: Simulator) -> tuple[Skeleton, ...]:
