@@ -111,20 +111,20 @@ def plan_scene(spec: SceneSpec) -> list[dict]:
             plan = plan_grasp(planning, seed_map, label, q_now, limits)
             records.append(_record(spec, "grasp", variant, plan, truth, by_color))
             if plan.ok and variant == "seeded":
-                holds.append((label, plan.goal))
+                holds.append(plan)
     if not labels:
         records.append({**_record(spec, "grasp", "seeded", None, truth, by_color),
                         "reason": "no object perceived"})  # fmt: skip
     arm = watched.person_arm()
     person = None if arm is None else PersonEffectivity(arm)
-    for label, q_held in holds[:HANDOVERS_PER_SCENE]:
+    for grasp in holds[:HANDOVERS_PER_SCENE]:
         for variant in VARIANTS:
             if person is None:
                 records.append({**_record(spec, "handover", variant, None, truth, by_color),
                                 "reason": "no person perceived"})  # fmt: skip
                 continue
             seed_map = arm_map if variant == "seeded" else None
-            plan = plan_handover(planning, seed_map, person, q_held, limits, holding=label)
+            plan = plan_handover(planning, seed_map, person, grasp.goal, limits, grasp.held)
             records.append(_record(spec, "handover", variant, plan, truth, by_color))
     return records
 

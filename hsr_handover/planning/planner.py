@@ -51,9 +51,19 @@ class Motion:
 
 
 @dataclasses.dataclass(frozen=True)
+class Held:
+    """An object in the hand: its perceived `label` and the configuration `q_grasp` (plant
+    positions) in which the hand closed on it."""
+
+    label: str
+    q_grasp: np.ndarray
+
+
+@dataclasses.dataclass(frozen=True)
 class Plan:
     """`ok` with the `motions` ending at the configuration `goal`, or not with the `reason`;
-    the wall `seconds` of each of STAGES and the IK solves tried."""
+    the wall `seconds` of each of STAGES and the IK solves tried; for a grasp, the object as
+    it will be `held`."""
 
     ok: bool
     reason: str
@@ -62,6 +72,7 @@ class Plan:
     seconds: dict[str, float] = dataclasses.field(default_factory=dict)
     ik_solves: int = 0
     goal: np.ndarray | None = None
+    held: Held | None = None
 
     @property
     def duration(self) -> float:
@@ -94,7 +105,8 @@ def plan_grasp(
     legs = (("move", (), q_now, found.q_pregrasp),
             ("approach", (label,), found.q_pregrasp, found.q_grasp),
             ("lift", (label,), closed, found.q_lifted))  # fmt: skip
-    return _plan_legs(scene, label, legs, limits, seconds, found.ik_solves)
+    plan = _plan_legs(scene, label, legs, limits, seconds, found.ik_solves)
+    return dataclasses.replace(plan, held=Held(label, closed)) if plan.ok else plan
 
 
 def plan_handover(
@@ -103,22 +115,28 @@ def plan_handover(
     person: PersonEffectivity,
     q_now: np.ndarray,
     limits: JointLimits,
-    holding: str = "",
+    held: Held | None = None,
 ) -> Plan:
-    """Plan the robot from `q_now`, holding the perceived object `holding` (which no longer
-    counts as an obstacle), to handing it over in the mutual area. With `arm_map` None (the
-    baseline) the hand goes to the rule's ideal point, IK starting from the arm as it is.
-    Never raises: an unreachable person gives `reason`."""
+    """Plan the robot from `q_now`, with the object `held` (a grasp plan's) moving with the
+    hand and kept clear like the hand, to handing it over in the mutual area. With `arm_map`
+    None (the baseline) the hand goes to the rule's ideal point, IK starting from the arm as
+    it is. Never raises: an unreachable person gives `reason`."""
+    if held is None:
+        return _plan_handover(scene, arm_map, person, q_now, limits, ())
+    with scene.holding(held.label, held.q_grasp):
+        return _plan_handover(scene, arm_map, person, q_now, limits, (held.label,))
+
+
+def _plan_handover(scene, arm_map, person, q_now, limits, ignore: tuple[str, ...]) -> Plan:
     start = time.perf_counter()
-    held = (holding,) if holding else ()
     if arm_map is None:
-        pose = unseeded_handover_pose(scene, person, q_now, held)
+        pose = unseeded_handover_pose(scene, person, q_now, ignore)
     else:
-        pose = plan_handover_pose(scene, arm_map, person, q_now, held)
+        pose = plan_handover_pose(scene, arm_map, person, q_now, ignore)
     seconds = dict.fromkeys(STAGES, 0.0) | {"ik": time.perf_counter() - start}
     if not pose.ok:
         return Plan(False, pose.reason, HANDOVER, seconds=seconds)
-    leg = ("carry", held, q_now, pose.q)
+    leg = ("carry", ignore, q_now, pose.q)
     return _plan_legs(scene, HANDOVER, (leg,), limits, seconds, 1)
 
 
@@ -142,20 +160,31 @@ def _plan_legs(scene, target, legs, limits, seconds, ik_solves) -> Plan:
 
 
 def _path(scene, q_from, q_to, ignore, straight: bool):
-    """A straight line when asked for and clear, else an optimised path from the straight line,
-    else one from the way round the table; (None, why) if none."""
+    """A straight line when asked for and clear, else an optimised path from the guesses in
+    turn (`_guesses`); (None, why) if none."""
     if straight:
         line = BsplineTrajectory(BsplineBasis(4, CONTROL_POINTS), straight_guess(q_from, q_to))
         if path_clearance(scene, line, ignore, COLLISION_SAMPLES) >= COLLISION_BOUND:
             return line, "ok"
-    result = optimize_path(scene, q_from, q_to, ignore=ignore)
-    if result.ok:
-        return result.path, result.reason
+    reasons = []
+    for name, guess in _guesses(scene, q_from, q_to):
+        result = optimize_path(scene, q_from, q_to, guess, ignore=ignore)
+        if result.ok:
+            return result.path, result.reason
+        reasons.append(f"{name}: {result.reason}")
+    return None, "; ".join(reasons)
+
+
+def _guesses(scene, q_from, q_to):
+    """(name, control points) to start the optimiser from: the straight line and the arm stowed
+    while the base drives (round the table if its straight line crosses it). The stowed way
+    goes first when the base's line crosses the table: from a line through the table SNOPT
+    takes seconds, up to half a minute, to give up."""
     base = [scene.index(joint) for joint in BASE_JOINTS[:2]]
     route = route_around(q_from[base], q_to[base], scene.scene.table)
-    guess = route_guess(scene, q_from, q_to, route)
-    detour = optimize_path(scene, q_from, q_to, guess, ignore=ignore)
-    return detour.path, detour.reason if detour.ok else f"{result.reason}; round: {detour.reason}"
+    line = ("straight", straight_guess(q_from, q_to))
+    stowed = ("round", route_guess(scene, q_from, q_to, route))
+    return [line, stowed] if len(route) == 2 else [stowed, line]
 
 
 def path_clearance(scene: PlanningScene, path, ignore: tuple[str, ...], samples: int) -> float:

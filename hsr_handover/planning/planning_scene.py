@@ -20,7 +20,9 @@ from pydrake.geometry import (
     CollisionFilterDeclaration,
     Cylinder,
     GeometryId,
+    GeometryInstance,
     GeometrySet,
+    ProximityProperties,
     QueryObject,
     Shape,
 )
@@ -33,6 +35,7 @@ from pydrake.systems.framework import DiagramBuilder
 from hsr_handover.hsr import (
     GRIPPER_JOINT,
     GRIPPER_MIMIC_JOINT,
+    PALM_FRAME,
     TORSO_JOINT,
     add_hsr,
     hsr_set_positions,
@@ -42,7 +45,7 @@ from hsr_handover.perception.table_fit import TableEstimate
 from hsr_handover.planning.perceived_scene import Capsule, PerceivedScene
 
 PLANNING_TIME_STEP = 0.01  # s: the HSR's mimic couplings need a discrete plant; never stepped
-TABLE, PERSON = "table", "person"
+TABLE, PERSON, HELD = "table", "person", "held"
 NEAR = 0.5  # m: distances beyond this are not computed
 TABLE_MARGIN = 0.01
 """m added round the table's sides and top: the fit is good to about a centimetre."""
@@ -156,6 +159,45 @@ class PlanningScene:
             yield
         finally:
             manager.RemoveDeclaration(handle)
+
+    @contextlib.contextmanager
+    def holding(self, label: str, q_grasp: np.ndarray) -> Iterator[None]:
+        """Within the block, the perceived object `label` moves with the hand, as it sat in the
+        hand closed on it at `q_grasp` (plant positions): its solid hangs on the palm's body,
+        an obstacle to all but the robot, and its copy on the table is left out. An object not
+        in the scene changes nothing."""
+        shape = self.scene.object_named(label)
+        if shape is None:
+            yield
+            return
+        solid, X_WO = _object_solid(shape)
+        hand = self.plant.GetFrameByName(PALM_FRAME, self.robot).body()
+        positions = self.positions()
+        self.plant.SetPositions(self.plant_context, q_grasp)
+        X_HO = hand.EvalPoseInWorld(self.plant_context).inverse() @ X_WO
+        self.plant.SetPositions(self.plant_context, positions)
+        instance = GeometryInstance(X_HO, solid, f"held_{label}")
+        instance.set_proximity_properties(ProximityProperties())
+        source = self.plant.get_source_id()
+        held = self.scene_graph.RegisterGeometry(
+            self._scene_graph_context, source, self.plant.GetBodyFrameIdOrThrow(hand.index()),
+            instance,
+        )  # fmt: skip
+        in_hand, on_table = GeometrySet([held]), GeometrySet(self.geometry[label])
+        manager = self.scene_graph.collision_filter_manager(self._scene_graph_context)
+        handle = manager.ApplyTransient(
+            CollisionFilterDeclaration()
+            .ExcludeBetween(self.robot_geometry, in_hand)
+            .ExcludeBetween(in_hand, on_table)
+        )
+        self.geometry[HELD] = [held]
+        try:
+            with self.ignoring((label,)):
+                yield
+        finally:
+            del self.geometry[HELD]
+            manager.RemoveDeclaration(handle)
+            self.scene_graph.RemoveGeometry(self._scene_graph_context, source, held)
 
     def query(self) -> QueryObject:
         return self.plant.get_geometry_query_input_port().Eval(self.plant_context)

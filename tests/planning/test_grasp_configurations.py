@@ -219,11 +219,13 @@ def test_a_grasp_plan_is_timed_and_clear_every_10_ms(scene, arm_map):
     shoulder = np.array([1.75, 0.19, 1.03])
     frame = np.column_stack([[-1.0, 0, 0], [0, -1.0, 0], [0, 0, 1.0]])
     person = PersonEffectivity(HumanArm("r", shoulder, frame, 0.30, 0.25, 0.09))
-    handover = plan_handover(scene, arm_map, person, plan.goal, limits, holding="blue")
+    handover = plan_handover(scene, arm_map, person, plan.goal, limits, plan.held)
     assert handover.ok, handover.reason
     (carry,) = handover.motions
     assert carry.name == "carry" and carry.ignore == ("blue",)
-    assert timed_clearance(scene, carry) >= COLLISION_BOUND - 0.012
+    assert plan.held.label == "blue"
+    with scene.holding(plan.held.label, plan.held.q_grasp):  # the cup, too, keeps clear
+        assert timed_clearance(scene, carry) >= COLLISION_BOUND - 0.012
 
 
 def test_an_unreachable_target_plans_nothing_and_says_why(scene, arm_map):

@@ -11,6 +11,7 @@ from hsr_handover.perception.object_shapes import CYLINDER, ObjectShape
 from hsr_handover.perception.table_fit import TableEstimate
 from hsr_handover.planning.perceived_scene import Capsule, PerceivedScene
 from hsr_handover.planning.planning_scene import (
+    HELD,
     OBJECT_MARGIN,
     PERSON,
     TABLE,
@@ -82,3 +83,23 @@ def test_an_empty_scene_has_nothing_near():
     scene = PlanningScene(PerceivedScene(None))
     scene.set_positions({})
     assert scene.clearance() == (np.inf, "")
+
+
+def test_a_held_object_moves_with_the_hand_and_keeps_its_distance():
+    """A cup taken where it stands (the hand's pose at the grasp fixes where it sits in the
+    hand), then lifted 10 cm: held, its bottom is 10 cm over the table, nearer than the hand;
+    its copy on the table is gone; after the block, the scene is as it was."""
+    cup = _cup("red", 0.7, 0.0)
+    scene = PlanningScene(PerceivedScene(_table(), (cup,)))
+    scene.set_positions({"arm_lift_joint": 0.2})
+    q_grasp = scene.positions()
+    scene.set_positions({"arm_lift_joint": 0.3})  # the whole hand 10 cm higher
+    q_lifted = scene.positions()
+    hand_only = scene.clearance_at(q_lifted, ignore=("red",))
+    with scene.holding("red", q_grasp):
+        assert HELD in scene.geometry
+        held = scene.clearance_at(q_lifted)
+        assert held == pytest.approx(0.10 - TABLE_MARGIN, abs=2e-3) and held < hand_only
+        assert scene.clearance_at(q_grasp) < 0  # put back where it stood: on the table's top
+    assert HELD not in scene.geometry
+    assert scene.clearance_at(q_lifted, ignore=("red",)) == pytest.approx(hand_only)
