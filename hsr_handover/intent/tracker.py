@@ -300,8 +300,8 @@ def judge(
     best = int(np.argmin(scores))
     if pointing[best] > 1.0:
         return FrameJudgement(None, 0.0, NOTHING_POINTED_AT, **seen)
-    pitch_off = pitch_errors_deg(gaze, centers[best : best + 1])[0]
-    if looking[best] > 1.0 or pitch_off > params.gaze_pitch_tolerance_deg:
+    above = pitch_errors_deg(gaze, centers[best : best + 1])[0]  # the eyes over the object
+    if looking[best] > 1.0 or above > params.gaze_pitch_tolerance_deg:
         return FrameJudgement(None, 0.0, GAZE_ELSEWHERE, **seen)
     return FrameJudgement(labels[best], _clarity(scores, best), POINTING, **seen)
 
