@@ -31,7 +31,7 @@ from hsr_handover.effectivity.arm_map import load_or_build
 from hsr_handover.effectivity.person_map import PersonEffectivity
 from hsr_handover.experiments.trials import TrialProgress, run_trials
 from hsr_handover.experiments.true_clearance import TrueClearance
-from hsr_handover.experiments.watch import watch
+from hsr_handover.experiments.watch import WATCH_S, watch
 from hsr_handover.planning.planner import CHECK_STEP, Plan, plan_grasp, plan_handover
 from hsr_handover.planning.planning_scene import PlanningScene
 from hsr_handover.planning.timing import joint_limits
@@ -40,7 +40,6 @@ from hsr_handover.scenario import load_scenario
 ROOT = Path(__file__).resolve().parents[1] / "scenarios"
 SCENES = ("demo.yaml", "intent_reference.yaml", "layouts/standing_five.yaml",
           "layouts/moved_base_four.yaml")  # fmt: skip
-PERCEIVE_S = 3.5  # s of simulation before planning: a look round (2.7 s), then a steady view
 LOOK_AT_TABLE = -0.1
 """rad of head tilt while perceiving: the robot looks at the table before it plans a grasp.
 (standing_five tilts the head up to a standing face, which cuts the table's near edge out of
@@ -91,7 +90,7 @@ def moved(scenario, move):
 def plan_scene(spec: SceneSpec) -> list[dict]:
     """Every target of one scene, planned seeded and unseeded; one record per plan."""
     scenario = moved(load_scenario(ROOT / spec.scenario), spec.move)
-    watched = watch(scenario, PERCEIVE_S, look_around=True)
+    watched = watch(scenario, WATCH_S, look_around=True)
     perceived, measured = watched.percept("perceived_scene"), watched.measured_positions()
     station = watched.simulation.station
     station_context = watched.simulation.station_context(watched.root)

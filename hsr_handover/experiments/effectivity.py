@@ -15,14 +15,13 @@ import numpy as np
 from hsr_handover.effectivity.arm_map import ArmEffectivity, load_or_build
 from hsr_handover.effectivity.person_map import PersonEffectivity
 from hsr_handover.experiments.effectivity_replay import draw_effectivity
-from hsr_handover.experiments.watch import watch
+from hsr_handover.experiments.watch import WATCH_S, watch
 from hsr_handover.kinematics.hsr_arm import palm_position, sample_arm_joints
 from hsr_handover.planning.handover_pose import HandoverPose, plan_handover_pose
 from hsr_handover.planning.planning_scene import PlanningScene
 from hsr_handover.replay import write_replay
 from hsr_handover.scenario import Scenario
 
-WATCH_S = 3.5  # s the robot watches, looking round first: the table fitted, the person lifted
 RANDOM_TARGETS = 2000  # reachable palm positions for eq. 11's error away from the nodes
 
 

@@ -18,6 +18,7 @@ from hsr_handover.simulation import Simulation, prepare_simulation, start_replay
 
 LOOK_AROUND_PANS = (0.7, -0.7)  # rad of head pan: the table's ends, each side in turn
 LOOK_DWELL_S = 0.9  # s at each: the pan's move (1 rad/s) and a few table fits (5 Hz)
+WATCH_S = 3.5  # s of watching before planning: the look round (2.7 s), then a steady view
 RECEIVING_SIDE = "r"
 """The person takes the object with the right arm (most people are right-handed); an arm whose
 elbow or wrist is not seen gets the body's proportions (`perceived_arm`)."""

@@ -64,12 +64,23 @@ class TableEstimate:
     """Per edge (+x, -x, +y, -y along the rectangle's own axes): whether the top may run on past
     it, the camera never having had the strip just beyond it in view."""
 
+    @property
+    def rotation(self) -> np.ndarray:
+        """The rectangle's axes in the world (2, 2): local (x, y) to world directions."""
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        return np.array([[c, -s], [s, c]])
+
+    def to_world(self, local: np.ndarray) -> np.ndarray:
+        """Points (..., 2) in the rectangle's own frame to the world's (x, y)."""
+        return self.center + np.asarray(local, dtype=float) @ self.rotation.T
+
+    def to_local(self, xy: np.ndarray) -> np.ndarray:
+        """World (x, y) points (..., 2) to the rectangle's own frame."""
+        return (np.asarray(xy, dtype=float)[..., :2] - self.center) @ self.rotation
+
     def corners(self) -> np.ndarray:
         """The top's four corners (4, 2) in the world, counter-clockwise."""
-        c, s = math.cos(self.yaw), math.sin(self.yaw)
-        half = self.size / 2
-        local = np.array([[-1, -1], [1, -1], [1, 1], [-1, 1]]) * half
-        return self.center + local @ np.array([[c, s], [-s, c]])
+        return self.to_world(np.array([[-1, -1], [1, -1], [1, 1], [-1, 1]]) * self.size / 2)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -152,14 +163,12 @@ class TableMap:
         that ends there ends along the whole edge; the middle, not a corner, because a view
         cut diagonally by the image's border leaves a corner's strip unseen); True (the top may
         run on) otherwise."""
-        c, s = math.cos(estimate.yaw), math.sin(estimate.yaw)
-        rotation = np.array([[c, -s], [s, c]])
         result = []
         for axis in (0, 1):
             for sign in (1.0, -1.0):
                 local = np.zeros(2)
                 local[axis] = sign * (estimate.size[axis] / 2 + EDGE_PROBE_M)
-                rows, cols = self._cells((estimate.center + rotation @ local)[None])
+                rows, cols = self._cells(estimate.to_world(local)[None])
                 ends = len(rows) == 1 and self.viewed_[rows[0], cols[0]]
                 ends = ends and self.counts_[rows[0], cols[0]] == 0
                 result.append(not ends)

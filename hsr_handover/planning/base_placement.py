@@ -77,10 +77,11 @@ def place_base(
     closing: np.ndarray,
     q_now: np.ndarray,
     ignore: tuple[str, ...] = (),
+    most: int = MAX_CANDIDATES,
 ) -> list[BasePlacement]:
-    """Base poses and arm seeds for putting the pads' centre at `point` along `approach`, best
-    first, clear of all but `ignore` (an object held). With no map (the unseeded baseline)
-    there is one candidate at PREFERRED_REACH with the arm as it is now."""
+    """At most `most` base poses and arm seeds for putting the pads' centre at `point` along
+    `approach`, best first, clear of all but `ignore` (an object held). With no map (the
+    unseeded baseline) there is one candidate at PREFERRED_REACH with the arm as it is now."""
     palm = np.asarray(point, float) - PAD_OFFSET * np.asarray(approach, float)
     robot_xy = q_now[[scene.index(BASE_JOINTS[0]), scene.index(BASE_JOINTS[1])]]
     yaw = base_yaw(approach, palm - np.array([*robot_xy, palm[2]]))
@@ -101,7 +102,7 @@ def place_base(
             arm = hand_posture(arm_map.seed(local[None])[0], to_base @ approach, to_base @ closing)
             _set_arm(scene, q, arm)
         placements.append(BasePlacement(q, float(reach), clearance))
-        if len(placements) == MAX_CANDIDATES:
+        if len(placements) == most:
             break
     return placements
 

@@ -41,10 +41,8 @@ def route_around(start: np.ndarray, goal: np.ndarray, table: TableEstimate | Non
     start, goal = np.asarray(start, float)[:2], np.asarray(goal, float)[:2]
     if table is None:
         return np.array([start, goal])
-    c, s = math.cos(table.yaw), math.sin(table.yaw)
-    rotation = np.array([[c, -s], [s, c]])
     half = table.size / 2 + BASE_RADIUS + ROUTE_MARGIN
-    local = [rotation.T @ (point - table.center) for point in (start, goal)]
+    local = [table.to_local(point) for point in (start, goal)]
     if not _crosses(local[0], local[1], half - 1e-6):
         return np.array([start, goal])
     corners = [np.array([sx, sy]) * half for sx, sy in ((1, 1), (-1, 1), (-1, -1), (1, -1))]
@@ -59,4 +57,4 @@ def route_around(start: np.ndarray, goal: np.ndarray, table: TableEstimate | Non
                 best, best_length = path, length
     if best is None:  # start or goal inside the widened table: nothing better than the line
         return np.array([start, goal])
-    return np.array([table.center + rotation @ point for point in best])
+    return table.to_world(np.array(best))

@@ -105,7 +105,7 @@ def plan_handover_pose(
     reason = f"{NO_MUTUAL_AREA}: no base pose clear of the scene reaches the person"
     aims = handover_aims(person.arm)
     for aim, (approach, closing) in _aims_and_approaches(aims, person):
-        for placement in place_base(scene, arm_map, aim, approach, closing, q_now, ignore)[:1]:
+        for placement in place_base(scene, arm_map, aim, approach, closing, q_now, ignore, 1):
             base = placement.q[[scene.index(joint) for joint in BASE_JOINTS]]
             robot_nodes = nodes_in_world(arm_map, base)
             body = scene.scene.person

@@ -11,7 +11,6 @@ under the table) is a column from the floor to the neck.
 from __future__ import annotations
 
 import dataclasses
-import math
 
 import numpy as np
 
@@ -107,9 +106,7 @@ def extend_past_view(table: TableEstimate, camera_xy: np.ndarray) -> TableEstima
     the top may run on) pushed out by UNSEEN_EXTENSION, what the robot has not seen it must not
     drive into; but never nearer than ROBOT_KEEP to the camera at `camera_xy` (on the robot):
     the near edge of a table seen with the head raised is not pushed under the robot."""
-    c, s = math.cos(table.yaw), math.sin(table.yaw)
-    rotation = np.array([[c, -s], [s, c]])
-    camera_local = rotation.T @ (np.asarray(camera_xy, dtype=float)[:2] - table.center)
+    camera_local = table.to_local(camera_xy)
     low, high = -table.size / 2, table.size / 2
     edges = ((0, 1.0, high), (0, -1.0, low), (1, 1.0, high), (1, -1.0, low))
     for is_open, (axis, sign, edge) in zip(table.open_edges, edges, strict=True):
@@ -118,7 +115,7 @@ def extend_past_view(table: TableEstimate, camera_xy: np.ndarray) -> TableEstima
         outward = sign * (camera_local[axis] - edge[axis])  # > 0: the camera is that way
         room = outward - ROBOT_KEEP if outward > 0 else UNSEEN_EXTENSION
         edge[axis] += sign * float(np.clip(room, 0.0, UNSEEN_EXTENSION))
-    center = table.center + rotation @ ((low + high) / 2)
+    center = table.to_world((low + high) / 2)
     return dataclasses.replace(table, center=center, size=high - low)
 
 

@@ -16,7 +16,7 @@ import dataclasses
 import numpy as np
 from ruckig import InputParameter, Result, Ruckig, RuckigError, Trajectory
 
-from hsr_handover.planning.timing import STILL, JointLimits
+from hsr_handover.planning.timing import STILL, JointLimits, sample_times
 
 JERK_PER_ACCELERATION = 5.0  # 1/s: jerk limit = 5 x acceleration limit, full from rest in 0.2 s
 POSITION_TOLERANCE = 1e-9  # m or rad beyond a position limit still taken as within (rounding)
@@ -43,7 +43,7 @@ class Retargeting:
 
     def sample(self, step: float) -> tuple[np.ndarray, np.ndarray]:
         """Times (n,) every `step` s from 0, the end included, and the positions (n, nq)."""
-        times = np.append(np.arange(0.0, self.duration, step), self.duration)
+        times = sample_times(self.duration, step)
         return times, np.array([self.at(t)[0] for t in times])
 
 

@@ -146,6 +146,11 @@ class TimedTrajectory:
         return scaled / self._stretch**order
 
 
+def sample_times(duration: float, step: float) -> np.ndarray:
+    """Times (n,) every `step` s from 0 to `duration`, the end included."""
+    return np.append(np.arange(0.0, duration, step), duration)
+
+
 @dataclasses.dataclass(frozen=True)
 class TimedPath:
     """`ok` with a `trajectory` of `duration` s, or not with the `reason`."""
@@ -157,7 +162,7 @@ class TimedPath:
 
     def sample(self, step: float) -> tuple[np.ndarray, np.ndarray]:
         """Times (n,) every `step` s from 0, the end included, and the positions (n, nq)."""
-        times = np.append(np.arange(0.0, self.duration, step), self.duration)
+        times = sample_times(self.duration, step)
         return times, self.trajectory.values(times)
 
     def velocities(self, times: np.ndarray) -> np.ndarray:
