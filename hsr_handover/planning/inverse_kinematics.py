@@ -13,12 +13,11 @@ import time
 
 import numpy as np
 from pydrake.multibody.inverse_kinematics import InverseKinematics
-from pydrake.solvers import Solve
 
 from hsr_handover.hsr import BASE_JOINTS, GRIPPER_JOINT, HEAD_JOINTS, PALM_FRAME
 from hsr_handover.planning.grasps import PAD_OFFSET
 from hsr_handover.planning.planning_scene import PlanningScene
-from hsr_handover.planning.solving import solved
+from hsr_handover.planning.solving import solve, solved
 
 MIN_DISTANCE = 0.02  # m from every obstacle at an IK solution
 POINT_TOLERANCE = 0.005  # m, each axis, the pads' centre from its target
@@ -67,7 +66,7 @@ def solve_palm_ik(
     seed = np.clip(seed, plant.GetPositionLowerLimits(), plant.GetPositionUpperLimits())
     with scene.ignoring(ignore):
         ik = _build(scene, goal, seed, base_fixed, min_distance)
-        result = Solve(ik.prog(), seed)
+        result = solve(ik.prog(), seed)
         usable = solved(ik.prog(), result)
     q = result.GetSolution(ik.q())
     seconds = time.perf_counter() - start

@@ -21,12 +21,11 @@ import time
 import numpy as np
 from pydrake.multibody.inverse_kinematics import MinimumDistanceLowerBoundConstraint
 from pydrake.planning import KinematicTrajectoryOptimization
-from pydrake.solvers import Solve
 from pydrake.trajectories import BsplineTrajectory
 
 from hsr_handover.hsr import BASE_JOINTS, HEAD_JOINTS
 from hsr_handover.planning.planning_scene import PlanningScene
-from hsr_handover.planning.solving import solved
+from hsr_handover.planning.solving import solve, solved
 
 CONTROL_POINTS = 10
 ROUTE_CONTROL_POINTS = 16  # for a way round the table
@@ -100,7 +99,7 @@ def optimize_path(
     with scene.ignoring(ignore):
         trajopt, constraints = _build(scene, q_start, q_goal, guess.shape[1], bounds)
         trajopt.SetInitialGuess(BsplineTrajectory(trajopt.basis(), guess * 1.0))
-        result = Solve(trajopt.prog())
+        result = solve(trajopt.prog())
         usable = solved(trajopt.prog(), result)
         del constraints  # the solve is done; the constraints held the plant context
     seconds = time.perf_counter() - start
