@@ -4,7 +4,8 @@ in copies with the table, its objects and the person moved, each target planned 
 in the same run: seeded by the arm's effectivity map (base placement and IK seeds, eq. 11) and
 unseeded (the base at a fixed reach, IK from the arm as it is). Per plan: success, the wall time
 of each stage (IK, trajectory optimisation, toppra timing), the least clearance along the timed
-trajectory checked every 10 ms against the simulation's true geometry, and the duration.
+trajectory checked every 10 ms against the simulation's true geometry (during a handover the true
+object rides in the hand as the grasp would hold it, and its distances count), and the duration.
 
 Each scene is perceived by the robot (a short simulation in which it looks round the table,
 pans its head left and right, then back: the table fitted to the point clouds, the objects
@@ -124,7 +125,8 @@ def plan_scene(spec: SceneSpec) -> list[dict]:
                 continue
             seed_map = arm_map if variant == "seeded" else None
             plan = plan_handover(planning, seed_map, person, grasp.goal, limits, grasp.held)
-            records.append(_record(spec, "handover", variant, plan, truth, by_color))
+            with truth.holding(by_color[grasp.held.label], grasp.held.q_grasp):
+                records.append(_record(spec, "handover", variant, plan, truth, by_color))
     return records
 
 

@@ -49,3 +49,23 @@ def test_an_ignored_object_is_left_out(truth):
     touching, nearest = clearance(q)
     ignored, other = clearance(q, ignore=("green_cup",))
     assert nearest == "green_cup" and other != "green_cup" and ignored > touching
+
+
+def test_a_held_object_rides_in_the_hand_and_is_scored(truth):
+    clearance, names = truth
+    q_grasp = np.zeros(len(names))
+    # The hand closed round the green cup 3 cm above its foot, which stands on the table.
+    for joint, value in {"base_x_joint": 0.22, "base_y_joint": -0.078, "arm_lift_joint": 0.48,
+                         "arm_flex_joint": -1.57, "wrist_flex_joint": -0.1}.items():  # fmt: skip
+        q_grasp[names.index(joint)] = value
+    before = clearance(q_grasp)
+    lowered = q_grasp.copy()
+    lowered[names.index("arm_lift_joint")] -= 0.02
+    alone, _ = clearance(lowered, ignore=("green_cup",))
+    with clearance.holding("green_cup", q_grasp):
+        sunk, into = clearance(lowered)
+        at_grasp, nearest = clearance(q_grasp)
+    assert alone > 0.005  # the hand alone stays above the table
+    assert into == "table" and sunk == pytest.approx(-0.02, abs=0.003)  # the cup's foot sinks
+    assert nearest != "green_cup" and at_grasp > -0.003  # held, it is no obstacle to the hand
+    assert clearance(q_grasp) == before  # let go, the cup is back where it stood

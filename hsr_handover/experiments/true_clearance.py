@@ -6,11 +6,14 @@ experiments only, never for the robot's decisions.
 
 from __future__ import annotations
 
+import contextlib
 import math
+from collections.abc import Iterator
 
 import numpy as np
 from pydrake.systems.framework import Context
 
+from hsr_handover.hsr import PALM_FRAME
 from hsr_handover.station.builder import Station
 
 NEAR = 0.5  # m: distances beyond this are not computed
@@ -43,15 +46,49 @@ class TrueClearance:
             for body in plant.GetBodyIndices(station.robot)
             for gid in plant.GetCollisionGeometriesForBody(plant.get_body(body))
         }
+        self._hand = plant.GetFrameByName(PALM_FRAME, station.robot).body()
+        self._held = None  # (the object's body, its pose in the hand) while holding
 
-    def __call__(self, q: np.ndarray, ignore: tuple[str, ...] = ()) -> tuple[float, str]:
-        """The least distance (m) from the HSR at `q` to anything but the objects named (by
-        their scenario names) in `ignore`, and what it is; (inf, "") when nothing is near."""
+    @contextlib.contextmanager
+    def holding(self, name: str, q_grasp: np.ndarray) -> Iterator[None]:
+        """Within the block, the true object `name` rides in the hand as it would if the hand
+        closed on it where it truly stands with the HSR at `q_grasp`: it counts as part of the
+        robot, and its distances to everything else are scored too."""
+        plant = self._station.plant
+        (index,) = plant.GetBodyIndices(self._station.objects[name])
+        body = plant.get_body(index)
+        self._put(q_grasp)
+        X_HO = self._hand.EvalPoseInWorld(self._plant_context).inverse() @ body.EvalPoseInWorld(
+            self._plant_context
+        )
+        X_WO = body.EvalPoseInWorld(self._plant_context)
+        carried = set(plant.GetCollisionGeometriesForBody(body))
+        self._robot |= carried
+        self._held = (body, X_HO)
+        try:
+            yield
+        finally:
+            self._held = None
+            self._robot -= carried
+            plant.SetFreeBodyPose(self._plant_context, body, X_WO)
+
+    def _put(self, q: np.ndarray) -> None:
+        """The HSR at `q`, and the object held (if any) in its hand."""
         plant = self._station.plant
         positions = plant.GetPositions(self._plant_context).copy()
         positions[self._slots] = q
         plant.SetPositions(self._plant_context, positions)
-        query = plant.get_geometry_query_input_port().Eval(self._plant_context)
+        if self._held is not None:
+            body, X_HO = self._held
+            X_WH = self._hand.EvalPoseInWorld(self._plant_context)
+            plant.SetFreeBodyPose(self._plant_context, body, X_WH @ X_HO)
+
+    def __call__(self, q: np.ndarray, ignore: tuple[str, ...] = ()) -> tuple[float, str]:
+        """The least distance (m) from the HSR at `q` to anything but the objects named (by
+        their scenario names) in `ignore`, and what it is; (inf, "") when nothing is near.
+        While `holding`, the object held is part of the HSR and not ignored."""
+        self._put(q)
+        query = self._station.plant.get_geometry_query_input_port().Eval(self._plant_context)
         best, nearest = math.inf, ""
         for pair in query.ComputeSignedDistancePairwiseClosestPoints(NEAR):
             robot_a, robot_b = pair.id_A in self._robot, pair.id_B in self._robot
