@@ -4,8 +4,9 @@ B-spline (C2, as toppra needs), shortest in duration and length, within the join
 and velocity limits, the torso and the right finger coupled on every control point, the head
 held, and at least COLLISION_BOUND from every obstacle not ignored at COLLISION_SAMPLES points.
 
-The bound is larger than the planner's true margin: between samples the path may dip by up to
-about 11 mm (DESIGN §6), so the timed trajectory is checked afterwards every 10 ms.
+The bound is larger than the planner's true margin: between samples a short path may dip by up
+to about 11 mm (DESIGN §6); a long one (a carry round the table, the object held far out from
+the joints) by much more, so the planner checks each path between its samples (planner.py).
 
 A start that the perceived scene already puts nearer than the bound (perception errs toward
 bulk: a table's unseen end runs on, a person's unseen body is a column to the floor) would make
@@ -89,13 +90,15 @@ def optimize_path(
     q_goal: np.ndarray,
     guess: np.ndarray | None = None,
     ignore: tuple[str, ...] = (),
+    samples: int = COLLISION_SAMPLES,
 ) -> PathResult:
     """The path from `q_start` to `q_goal` (plant positions), starting from the control points
-    `guess` (nq, any count; the straight line through CONTROL_POINTS when None). Never raises
-    for an infeasible problem: `ok` is False and `reason` says why."""
+    `guess` (nq, any count; the straight line through CONTROL_POINTS when None), kept clear at
+    `samples` evenly spaced points. Never raises for an infeasible problem: `ok` is False and
+    `reason` says why."""
     start = time.perf_counter()
     guess = straight_guess(q_start, q_goal) if guess is None else guess
-    bounds = sample_bounds(scene.clearance_at(q_start, ignore))
+    bounds = sample_bounds(scene.clearance_at(q_start, ignore), samples)
     with scene.ignoring(ignore):
         trajopt, constraints = _build(scene, q_start, q_goal, guess.shape[1], bounds)
         trajopt.SetInitialGuess(BsplineTrajectory(trajopt.basis(), guess * 1.0))
@@ -109,12 +112,12 @@ def optimize_path(
     return PathResult(True, "ok", trajopt.ReconstructTrajectory(result), seconds)
 
 
-def sample_bounds(start_clearance: float) -> np.ndarray:
-    """The least distance (m) to keep at each of the COLLISION_SAMPLES, evenly spaced over the
-    path: COLLISION_BOUND, or for a start already nearer, the start's own clearance less
+def sample_bounds(start_clearance: float, samples: int = COLLISION_SAMPLES) -> np.ndarray:
+    """The least distance (m) to keep at each of `samples` points evenly spaced over the path:
+    COLLISION_BOUND, or for a start already nearer, the start's own clearance less
     ESCAPE_SLACK over the first ESCAPE_SHARE."""
-    spots = np.linspace(0.0, 1.0, COLLISION_SAMPLES)
-    bounds = np.full(COLLISION_SAMPLES, COLLISION_BOUND)
+    spots = np.linspace(0.0, 1.0, samples)
+    bounds = np.full(samples, COLLISION_BOUND)
     if start_clearance < COLLISION_BOUND:
         bounds[spots <= ESCAPE_SHARE] = start_clearance - ESCAPE_SLACK
     return bounds
@@ -152,6 +155,6 @@ def _build(
         )
         for bound in set(bounds.tolist())
     }
-    for s, bound in zip(np.linspace(0, 1, COLLISION_SAMPLES), bounds, strict=True):
+    for s, bound in zip(np.linspace(0, 1, len(bounds)), bounds, strict=True):
         trajopt.AddPathPositionConstraint(constraints[float(bound)], s)
     return trajopt, constraints

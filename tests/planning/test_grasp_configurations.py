@@ -16,18 +16,26 @@ from hsr_handover.effectivity.person_map import HumanArm, PersonEffectivity
 from hsr_handover.hsr import BASE_JOINTS, PALM_FRAME
 from hsr_handover.perception.object_shapes import CYLINDER, ObjectShape
 from hsr_handover.perception.table_fit import TableEstimate
+from hsr_handover.planning import planner
 from hsr_handover.planning.grasp_configurations import UNREACHABLE, grasp_configurations
 from hsr_handover.planning.grasps import LIFT_HEIGHT, PAD_OFFSET
 from hsr_handover.planning.handover_pose import NO_MUTUAL_AREA, plan_handover_pose
 from hsr_handover.planning.inverse_kinematics import MIN_DISTANCE, PalmGoal, solve_palm_ik
 from hsr_handover.planning.perceived_scene import Capsule, PerceivedScene
-from hsr_handover.planning.planner import STAGES, plan_grasp, plan_handover, timed_clearance
+from hsr_handover.planning.planner import (
+    STAGES,
+    path_clearances,
+    plan_grasp,
+    plan_handover,
+    timed_clearance,
+)
 from hsr_handover.planning.planning_scene import PlanningScene
 from hsr_handover.planning.timing import joint_limits
 from hsr_handover.planning.trajectory import (
     COLLISION_BOUND,
     ESCAPE_SHARE,
     ESCAPE_SLACK,
+    STOWED,
     optimize_path,
     sample_bounds,
 )
@@ -124,6 +132,27 @@ def test_the_optimised_path_keeps_clear_at_its_samples_and_joins_its_ends(scene,
         scene.plant.SetPositions(scene.plant_context, path.value(t).ravel())
         clearances.append(scene.clearance()[0])
     assert min(clearances) > COLLISION_BOUND - 0.012  # may dip between the optimiser's samples
+
+
+def test_a_path_that_dips_between_its_samples_is_optimised_again_at_more(monkeypatch):
+    """Along the table's long side, from one end to the other: three collision samples let the
+    base cut through the table between them; the planner's check finds it and doubles the
+    samples until the path keeps clear throughout."""
+    table = TableEstimate(TABLE_TOP, np.array([0.845, 0.0]), np.array([0.6, 1.0]), 0.0, 6000)
+    scene = PlanningScene(PerceivedScene(table, (), ()))
+    stowed = {joint: value for joint, value in STOWED.items() if joint != "torso_lift_joint"}
+    scene.set_positions({"base_x_joint": 0.845, "base_y_joint": -0.85, **stowed})
+    q_from = scene.positions()
+    scene.set_positions({"base_x_joint": 0.845, "base_y_joint": 0.85, **stowed})
+    q_to = scene.positions()
+    dense = 96
+    loose = optimize_path(scene, q_from, q_to, samples=7)
+    assert loose.ok and path_clearances(scene, loose.path, (), dense).min() < -0.05
+    monkeypatch.setattr(planner, "COLLISION_SAMPLES", 7)
+    path, reason = planner._path(scene, q_from, q_to, (), straight=False)
+    assert path is not None, reason
+    floor = COLLISION_BOUND - planner.DIP_ALLOWANCE
+    assert path_clearances(scene, path, (), dense).min() >= floor - 2e-3
 
 
 def test_only_the_first_stretch_of_a_path_from_a_near_start_may_stay_near():
