@@ -18,10 +18,12 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Iterable
 
 import numpy as np
 
 from hsr_handover.perception.coco18 import keypoint_index
+from hsr_handover.perception.skeleton import Skeleton
 from hsr_handover.topology import GrowingCellStructures
 
 SHOULDER_WIDTH_PER_HEIGHT = 0.259  # Drillis and Contini 1966: biacromial width / height
@@ -160,3 +162,18 @@ def _body_frame(right: np.ndarray, left: np.ndarray, nose: np.ndarray | None) ->
         forward = -forward
         across = -across
     return np.column_stack([forward, across, up]) if math.isfinite(forward[0]) else np.eye(3)
+
+
+RECEIVING_SIDE = "r"
+"""The person takes the object with the right arm (most people are right-handed); an arm whose
+elbow or wrist is not seen gets the body's proportions (`perceived_arm`)."""
+
+
+def receiving_arm(skeletons: Iterable[Skeleton]) -> HumanArm | None:
+    """The person's receiving arm from the first of `skeletons` (newest first) that shows both
+    shoulders; None if none does."""
+    for skeleton in skeletons:
+        arm = perceived_arm(skeleton.points, skeleton.confidence, RECEIVING_SIDE)
+        if arm is not None:
+            return arm
+    return None

@@ -4,34 +4,19 @@ start of every experiment that plans from what the robot perceives."""
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Iterable
 
 from pydrake.geometry import Meshcat
 from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import Context
 
-from hsr_handover.effectivity.person_map import HumanArm, perceived_arm
+from hsr_handover.effectivity.person_map import HumanArm, receiving_arm
+from hsr_handover.handover.look_round import LOOK_AROUND_PANS, LOOK_DWELL_S
 from hsr_handover.hsr import COMMANDED_JOINTS
 from hsr_handover.perception.skeleton import Skeleton
 from hsr_handover.scenario import Scenario
 from hsr_handover.simulation import Simulation, prepare_simulation, start_replay
 
-LOOK_AROUND_PANS = (0.7, -0.7)  # rad of head pan: the table's ends, each side in turn
-LOOK_DWELL_S = 0.9  # s at each: the pan's move (1 rad/s) and a few table fits (5 Hz)
 WATCH_S = 3.5  # s of watching before planning: the look round (2.7 s), then a steady view
-RECEIVING_SIDE = "r"
-"""The person takes the object with the right arm (most people are right-handed); an arm whose
-elbow or wrist is not seen gets the body's proportions (`perceived_arm`)."""
-
-
-def receiving_arm(skeletons: Iterable[Skeleton]) -> HumanArm | None:
-    """The person's receiving arm from the first of `skeletons` (newest first) that shows both
-    shoulders; None if none does."""
-    for skeleton in skeletons:
-        arm = perceived_arm(skeleton.points, skeleton.confidence, RECEIVING_SIDE)
-        if arm is not None:
-            return arm
-    return None
 
 
 @dataclasses.dataclass

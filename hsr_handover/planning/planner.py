@@ -28,6 +28,7 @@ from hsr_handover.planning.trajectory import (
     COLLISION_BOUND,
     COLLISION_SAMPLES,
     CONTROL_POINTS,
+    STOWED,
     optimize_path,
     route_guess,
     sample_bounds,
@@ -36,6 +37,7 @@ from hsr_handover.planning.trajectory import (
 
 STAGES = ("ik", "optimisation", "timing")
 HANDOVER = "handover"  # a handover plan's target
+RETREAT = "retreat"  # a retreat plan's target and motion
 STRAIGHT_LEGS = ("approach", "lift")  # short moves of the hand: a straight line when clear
 CHECK_STEP = 0.01  # s between clearance checks of a timed trajectory
 VERIFY_PER_SAMPLE = 4  # an optimised path is checked at this many times its optimiser's samples
@@ -134,6 +136,22 @@ def plan_handover(
         return _plan_handover(scene, arm_map, person, q_now, limits, ())
     with scene.holding(held.label, held.q_grasp):
         return _plan_handover(scene, arm_map, person, q_now, limits, (held.label,))
+
+
+def plan_retreat(
+    scene: PlanningScene, q_now: np.ndarray, limits: JointLimits, held: Held | None = None
+) -> Plan:
+    """Plan the arm from `q_now` back to STOWED over the base where it stands, with the object
+    `held` (if any) moving with the hand. Never raises: `reason` says why there is none."""
+    q_stowed = q_now.copy()
+    for joint, value in STOWED.items():
+        q_stowed[scene.index(joint)] = value
+    seconds = dict.fromkeys(STAGES, 0.0)
+    if held is None:
+        return _plan_legs(scene, RETREAT, ((RETREAT, (), q_now, q_stowed),), limits, seconds, 0)
+    with scene.holding(held.label, held.q_grasp):
+        leg = (RETREAT, (held.label,), q_now, q_stowed)
+        return _plan_legs(scene, RETREAT, (leg,), limits, seconds, 0)
 
 
 def _plan_handover(scene, arm_map, person, q_now, limits, ignore: tuple[str, ...]) -> Plan:

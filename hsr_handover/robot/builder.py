@@ -2,8 +2,8 @@
 
 Its inputs are named after the station's sensor outputs and its outputs after the station's
 command inputs (`hsr_handover.interface`), so the two connect by name. Today it perceives
-(when `perception.enabled`) and holds its ready posture; intent, effectivity, planning and the
-handover supervisor go here.
+(when `perception.enabled`) and holds its ready posture, or (when `handover.enabled`) runs the
+perceiving-acting cycle: the HandoverSupervisor commands the HSR from its percepts.
 """
 
 from __future__ import annotations
@@ -15,9 +15,11 @@ from pydrake.systems.framework import Diagram, DiagramBuilder
 from pydrake.systems.primitives import ConstantVectorSource
 
 from hsr_handover import interface
+from hsr_handover.effectivity.arm_map import load_or_build
 from hsr_handover.hsr import COMMANDED_JOINTS, FINGER_PER_OPENING, GRIPPER_JOINT
 from hsr_handover.robot.perception import PERCEPTION_OUTPUTS, add_perception
 from hsr_handover.scenario import Scenario, robot_start_positions
+from hsr_handover.systems.handover_supervisor import HandoverSupervisor
 
 
 @dataclasses.dataclass
@@ -36,18 +38,44 @@ def ready_command(scenario: Scenario) -> tuple[np.ndarray, float]:
     return np.concatenate([q, np.zeros_like(q)]), start.get(GRIPPER_JOINT, 0.0) / FINGER_PER_OPENING
 
 
+def _feed_supervisor(builder: DiagramBuilder, supervisor: HandoverSupervisor) -> None:
+    """The supervisor reads the joint sensors (exported inputs, shared with perception when it
+    reads them) and the perception systems' outputs."""
+    for sensor in (interface.HSR_STATE_MEASURED, interface.GRIPPER_OPENING_MEASURED):
+        builder.ExportInput(supervisor.GetInputPort(sensor), sensor)
+    for port, system, output in (
+        ("intent", "intent_estimator", "intent"),
+        ("perceived_scene", "perceived_scene_estimator", "scene"),
+        ("skeleton", "skeleton_lifter", "skeleton"),
+        ("detections", "object_detector", "detections"),
+    ):
+        source = builder.GetSubsystemByName(system).GetOutputPort(output)
+        builder.Connect(source, supervisor.GetInputPort(port))
+
+
 def build_robot(scenario: Scenario) -> Robot:
     """The robot's diagram from the scenario's robot, camera and perception settings."""
     builder = DiagramBuilder()
     state, opening = ready_command(scenario)
-    posture = builder.AddNamedSystem("ready_posture", ConstantVectorSource(state))
-    gripper = builder.AddNamedSystem("ready_gripper", ConstantVectorSource([opening]))
-    builder.ExportOutput(posture.get_output_port(), interface.HSR_DESIRED_STATE)
-    builder.ExportOutput(gripper.get_output_port(), interface.GRIPPER_DESIRED_OPENING)
     outputs: tuple[str, ...] = ()
     if scenario.perception.enabled:
         add_perception(builder, scenario)
         outputs = PERCEPTION_OUTPUTS
+    if scenario.handover.enabled:
+        supervisor = builder.AddNamedSystem(
+            "handover_supervisor", HandoverSupervisor(load_or_build()[0], state, opening)
+        )
+        _feed_supervisor(builder, supervisor)
+        commands = (supervisor.GetOutputPort(interface.HSR_DESIRED_STATE),
+                    supervisor.GetOutputPort(interface.GRIPPER_DESIRED_OPENING))  # fmt: skip
+        builder.ExportOutput(supervisor.GetOutputPort("cycle"), "cycle")
+        outputs += ("cycle",)
+    else:
+        posture = builder.AddNamedSystem("ready_posture", ConstantVectorSource(state))
+        gripper = builder.AddNamedSystem("ready_gripper", ConstantVectorSource([opening]))
+        commands = (posture.get_output_port(), gripper.get_output_port())
+    builder.ExportOutput(commands[0], interface.HSR_DESIRED_STATE)
+    builder.ExportOutput(commands[1], interface.GRIPPER_DESIRED_OPENING)
     diagram = builder.Build()
     diagram.set_name("robot")
     return Robot(diagram, outputs)

@@ -117,6 +117,8 @@ def check_scenario(scenario: Scenario) -> None:
     _check_variation(scenario, fail)
     _check_perception(scenario, fail)
     _check_intent(scenario, fail)
+    if scenario.handover.enabled and not scenario.perception.enabled:
+        fail("handover.enabled", "perception.enabled: true as well (the robot acts on percepts)")
 
 
 def _failer(source: str) -> Fail:

@@ -288,6 +288,16 @@ class IntentConfig:
 
 
 @dataclasses.dataclass
+class HandoverConfig:
+    """The perceiving-acting cycle (issue 10): with `enabled`, the robot watches (its head
+    looks round the table first), and once it recognises the object asked for it grasps it,
+    lifts it, carries it to the handover point and waits for the person's hand, releasing
+    when the hand holds it. It needs `perception.enabled`."""
+
+    enabled: bool = False
+
+
+@dataclasses.dataclass
 class SimulationConfig:
     """Simulated duration (s), the plant's discrete time step (s), the random seed, and the frame
     rate of the replay recording.
@@ -313,6 +323,7 @@ class Scenario:
     camera: CameraConfig = field(default_factory=CameraConfig)
     perception: PerceptionConfig = field(default_factory=PerceptionConfig)
     intent: IntentConfig = field(default_factory=IntentConfig)
+    handover: HandoverConfig = field(default_factory=HandoverConfig)
     simulation: SimulationConfig = field(default_factory=SimulationConfig)
     # Where the scenario came from, for error messages and relative model paths; set by the
     # loader, never read from YAML (the schema walk treats it as an unknown key).

@@ -5,8 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hsr_handover.effectivity.person_map import FOREARM_PER_HEIGHT, SHOULDER_WIDTH_PER_HEIGHT
-from hsr_handover.experiments.watch import receiving_arm
+from hsr_handover.effectivity.person_map import (
+    FOREARM_PER_HEIGHT,
+    SHOULDER_WIDTH_PER_HEIGHT,
+    receiving_arm,
+)
 from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.perception.skeleton import Skeleton
 from tests.intent.synthetic_person import keypoints

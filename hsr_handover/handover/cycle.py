@@ -1,0 +1,355 @@
+"""The perceiving-acting cycle as a plain state machine (issue 10; paper 3.3): watch, recognise
+the request, plan, approach, grasp, lift, carry to the handover point, wait for the person's
+hand, release when the person holds the object, retreat. Failures end it with a reason.
+
+It decides from percepts only (`Percepts`: the joint sensors, the gripper's measured opening,
+the intent estimator's target, the object as the camera sees it, the person's hand from the
+skeleton) and asks a `CyclePlanner` for motions. It knows nothing of Drake systems: the
+`HandoverSupervisor` steps it and follows the motion it gives.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import enum
+import math
+from collections.abc import Callable
+from typing import Protocol
+
+import numpy as np
+
+
+class Phase(enum.Enum):
+    WATCH = "watch"
+    APPROACH = "approach"  # to the pre-grasp, then along the approach
+    GRASP = "grasp"  # the gripper closing
+    LIFT = "lift"
+    CARRY = "carry"  # to the handover point
+    PRESENT = "present"  # waiting for the person's hand
+    RELEASE = "release"  # the gripper opening
+    RETREAT = "retreat"
+    DONE = "done"
+    FAILED = "failed"
+
+
+class Failure(enum.Enum):
+    """Why a cycle failed (HandoverSim's classes and ours)."""
+
+    UNREACHABLE = "unreachable"
+    GRASP_MISSED = "grasp missed"
+    DROPPED = "dropped"
+    PERSON_WITHDREW = "person withdrew"
+    TIMEOUT = "timeout"
+
+
+HELD_OPENING = 0.01
+"""m: a gripper closed on an object reads at least this (closed on nothing it reads ~0)."""
+OPEN = 0.1  # m of opening to approach and to let go with
+CLOSED = 0.0  # m commanded to grasp: the fingers stop on the object
+SETTLE_S = 0.8  # s the gripper is given to close or open
+RISE = 0.03  # m the object must rise with the hand, seen by the camera, for a grasp to count
+REACH = 0.15
+"""m: the person's hand this near the object counts as reaching for it (a hand's length: the
+wrist keypoint sits that far from the fingers that close on it)."""
+HOLD_S = 0.8  # s the hand stays at the object before the robot lets go
+RETARGET = 0.10  # m the hand may move from where the object is held before the robot follows
+WAIT_S = 12.0  # s the robot presents the object before it gives up (HandoverSim's 13 s limit)
+LOST_S = 2.0  # s without seeing the person while presenting: the person withdrew
+
+
+class Motion(Protocol):
+    """A timed motion over the planning plant's positions."""
+
+    duration: float
+
+    def state(self, time: float) -> tuple[np.ndarray, np.ndarray]:
+        """Positions and velocities at `time` s from its start (held at its ends)."""
+
+
+@dataclasses.dataclass(frozen=True)
+class Percepts:
+    """What the robot knows at `time` s: its measured positions `q` (planning plant order), the
+    gripper's measured `opening` (m), the `target` recognised (None until one is), the target
+    object's centre as the camera sees it now (`object_seen`, None when not in view), the
+    receiving hand from the skeleton (`hand`, None when not seen), the palm's point by forward
+    kinematics of `q` (`palm`) and a point on the person to look at (`person`, the receiving
+    shoulder as last seen)."""
+
+    time: float
+    q: np.ndarray
+    opening: float
+    target: str | None = None
+    object_seen: np.ndarray | None = None
+    hand: np.ndarray | None = None
+    palm: np.ndarray | None = None
+    person: np.ndarray | None = None
+
+
+@dataclasses.dataclass(frozen=True)
+class PlannedMotions:
+    """A planner's answer: `ok` with the `motions` in order, or not with the `reason`; the
+    wall `seconds` it took."""
+
+    ok: bool
+    reason: str
+    motions: tuple[tuple[str, Motion], ...] = ()
+    seconds: float = 0.0
+    held: object = None  # a grasp's: the object as the hand will hold it, for later plans
+
+
+class CyclePlanner(Protocol):
+    """The motions the cycle asks for, planned from what the robot perceives."""
+
+    def grasp(self, label: str, q: np.ndarray) -> PlannedMotions:
+        """To the pre-grasp and along the approach (gripper open), then the lift ("lift",
+        gripper closed), as named motions."""
+
+    def carry(self, q: np.ndarray, held: object) -> PlannedMotions:
+        """From the lifted object to the handover point, holding the grasp's `held`."""
+
+    def follow(self, q: np.ndarray, v: np.ndarray, hand: np.ndarray, held: object):
+        """State to state, to hold the object out at the person's `hand` (m, world)."""
+
+    def retreat(self, q: np.ndarray, held: object) -> PlannedMotions:
+        """Back to the ready posture, with the object `held` or (None) without."""
+
+
+@dataclasses.dataclass
+class _Running:
+    name: str
+    motion: Motion
+    start: float
+
+
+@dataclasses.dataclass
+class Cycle:
+    """The cycle's record: `phase`, `failure` (None unless failed), `reason`, when each phase
+    began (`phase_times`, s), planning wall time (`planning_s`), when the target was
+    recognised (`recognised_time`) and which (`target`)."""
+
+    phase: Phase = Phase.WATCH
+    failure: Failure | None = None
+    reason: str = ""
+    target: str | None = None
+    recognised_time: float = math.nan
+    phase_times: dict[str, float] = dataclasses.field(default_factory=dict)
+    planning_s: float = 0.0
+
+    @property
+    def over(self) -> bool:
+        return self.phase in (Phase.DONE, Phase.FAILED)
+
+
+class HandoverCycle:
+    """Steps the cycle on percepts; `command(time)` gives what the robot should do then.
+
+    A copy (Drake copies a system's state with each context) shares the planner and the
+    motions, which are never changed once made, and copies the rest."""
+
+    def __init__(self, planner: CyclePlanner):
+        self._planner = planner
+        self._held: object = None
+        self.cycle = Cycle()
+        self._queue: list[tuple[str, Motion]] = []
+        self._running: _Running | None = None
+        self._hold: tuple[np.ndarray, np.ndarray] | None = None  # (q, 0) to stand still at
+        self._gripper = OPEN
+        self._since = 0.0  # when the current wait began
+        self._seen_at = 0.0  # when the person's hand was last seen
+        self._near_since: float | None = None
+        self._object_start: np.ndarray | None = None
+        self._after_retreat: tuple[Phase, Failure | None, str] = (Phase.DONE, None, "")
+        self._lift_motion: tuple[str, Motion] | None = None
+        self._person: np.ndarray | None = None
+
+    def __deepcopy__(self, memo: dict) -> HandoverCycle:
+        clone = copy.copy(self)
+        clone.cycle = copy.deepcopy(self.cycle, memo)
+        clone._queue = list(self._queue)
+        return clone
+
+    # What to do now -------------------------------------------------------------------------
+
+    def command(self, time: float) -> tuple[np.ndarray | None, np.ndarray | None, float]:
+        """(positions, velocities, gripper opening) to command at `time`; positions None while
+        there is nothing to follow (hold where it stands)."""
+        if self._running is not None:
+            q, v = self._running.motion.state(time - self._running.start)
+            return q, v, self._gripper
+        if self._hold is not None:
+            return self._hold[0], self._hold[1], self._gripper
+        return None, None, self._gripper
+
+    def gaze(self) -> np.ndarray | None:
+        """Where to look (m, world): the object until it is lifted, then the person; None
+        while watching (the head is the watcher's)."""
+        if self.cycle.phase is Phase.WATCH:
+            return None
+        if self.cycle.phase in (Phase.APPROACH, Phase.GRASP, Phase.LIFT):
+            return self._object_start
+        return self._person
+
+    # Stepping ---------------------------------------------------------------------------------
+
+    def step(self, p: Percepts) -> Cycle:
+        """Advance on the latest percepts; returns the cycle's record."""
+        self._person = p.person if p.person is not None else self._person
+        handler: Callable[[Percepts], None] = getattr(self, f"_{self.cycle.phase.value}", None)
+        if handler is not None:
+            handler(p)
+        return self.cycle
+
+    def _watch(self, p: Percepts) -> None:
+        if p.target is None:
+            return
+        self.cycle.target, self.cycle.recognised_time = p.target, p.time
+        self._object_start = p.object_seen
+        planned = self._plan(self._planner.grasp(p.target, p.q), p)
+        if planned is None:
+            return
+        *reach, lift = planned.motions
+        self._lift_motion, self._held = lift, planned.held
+        self._gripper = OPEN
+        self._enter(Phase.APPROACH, p.time)
+        self._queue = list(reach)
+
+    def _approach(self, p: Percepts) -> None:
+        if self._moving(p.time):
+            return
+        self._gripper = CLOSED
+        self._enter(Phase.GRASP, p.time)
+
+    def _grasp(self, p: Percepts) -> None:
+        if p.time - self._since < SETTLE_S:
+            return
+        if p.opening < HELD_OPENING:
+            self._fail_and_retreat(p, Failure.GRASP_MISSED, "the gripper closed on nothing")
+            return
+        self._enter(Phase.LIFT, p.time)
+        self._queue = [self._lift_motion]
+
+    def _lift(self, p: Percepts) -> None:
+        if self._dropped(p) or self._moving(p.time):
+            return
+        start, seen = self._object_start, p.object_seen
+        if start is not None and seen is not None and seen[2] - start[2] < RISE:
+            reason = f"the object rose {100 * (seen[2] - start[2]):.1f} cm with the hand"
+            self._fail_and_retreat(p, Failure.GRASP_MISSED, reason)
+            return
+        planned = self._plan(self._planner.carry(p.q, self._held), p, holding=True)
+        if planned is not None:
+            self._enter(Phase.CARRY, p.time)
+            self._queue = list(planned.motions)
+
+    def _carry(self, p: Percepts) -> None:
+        if self._dropped(p) or self._moving(p.time):
+            return
+        self._enter(Phase.PRESENT, p.time)
+        self._seen_at, self._near_since = p.time, None
+
+    def _present(self, p: Percepts) -> None:
+        if self._dropped(p):
+            return
+        if p.time - self._since > WAIT_S:
+            reason = f"no hand came for the object in {WAIT_S:.0f} s; holding it"
+            self._fail_and_retreat(p, Failure.TIMEOUT, reason, holding=True)
+            return
+        if p.hand is None:
+            if p.time - self._seen_at > LOST_S:
+                reason = f"the person was out of sight for {LOST_S:.0f} s; holding the object"
+                self._fail_and_retreat(p, Failure.PERSON_WITHDREW, reason, holding=True)
+            return
+        self._seen_at = p.time
+        distance = float(np.linalg.norm(p.hand - p.palm)) if p.palm is not None else math.inf
+        if distance > REACH:
+            self._near_since = None
+            if distance > RETARGET and not self._moving(p.time):
+                self._follow(p)
+            return
+        self._near_since = p.time if self._near_since is None else self._near_since
+        if p.time - self._near_since >= HOLD_S:
+            self._gripper = OPEN
+            self._running, self._queue = None, []
+            self._hold = (p.q, np.zeros_like(p.q))
+            self._enter(Phase.RELEASE, p.time)
+
+    def _follow(self, p: Percepts) -> None:
+        """Re-target state to state (ruckig) to hold the object out at the hand."""
+        planned = self._planner.follow(p.q, np.zeros_like(p.q), p.hand, self._held)
+        self.cycle.planning_s += planned.seconds
+        if planned.ok:
+            self._queue = list(planned.motions)
+            self._moving(p.time)
+
+    def _release(self, p: Percepts) -> None:
+        if p.time - self._since < SETTLE_S:
+            return
+        self._retreat_then(p, Phase.DONE, None, "", holding=False)
+
+    def _retreat(self, p: Percepts) -> None:
+        if self._moving(p.time):
+            return
+        phase, failure, reason = self._after_retreat
+        self._finish(phase, failure, reason, p.time)
+
+    # Helpers ----------------------------------------------------------------------------------
+
+    def _plan(self, planned: PlannedMotions, p: Percepts, holding: bool = False):
+        self.cycle.planning_s += planned.seconds
+        if planned.ok:
+            return planned
+        self._fail_and_retreat(p, Failure.UNREACHABLE, planned.reason, holding=holding)
+        return None
+
+    def _moving(self, time: float) -> bool:
+        """Whether a motion is still under way at `time`; starts the next queued one when the
+        last has ended."""
+        running = self._running
+        if running is not None and time - running.start < running.motion.duration:
+            return True
+        if running is not None:
+            end = running.motion.state(running.motion.duration)[0]
+            self._hold, self._running = (end, np.zeros_like(end)), None
+        if not self._queue:
+            return False
+        name, motion = self._queue.pop(0)
+        if name == "lift":
+            self._gripper = CLOSED
+        self._running = _Running(name, motion, time)
+        return True
+
+    def _dropped(self, p: Percepts) -> bool:
+        if p.opening >= HELD_OPENING:
+            return False
+        self._fail_and_retreat(p, Failure.DROPPED, "the gripper closed: the object slipped out")
+        return True
+
+    def _fail_and_retreat(
+        self, p: Percepts, failure: Failure, reason: str, holding: bool = False
+    ) -> None:
+        if not holding:
+            self._gripper = OPEN
+        self._retreat_then(p, Phase.FAILED, failure, reason, holding)
+
+    def _retreat_then(self, p, phase: Phase, failure, reason: str, holding: bool) -> None:
+        """Retreat to the ready posture, then end in `phase`; end there at once if no retreat
+        can be planned (the robot then stands where it is)."""
+        self._running, self._queue = None, []
+        self._hold = (p.q, np.zeros_like(p.q))
+        self._after_retreat = (phase, failure, reason)
+        planned = self._planner.retreat(p.q, self._held if holding else None)
+        self.cycle.planning_s += planned.seconds
+        if not planned.ok:
+            self._finish(phase, failure, reason, p.time)
+            return
+        self._enter(Phase.RETREAT, p.time)
+        self._queue = list(planned.motions)
+
+    def _finish(self, phase: Phase, failure, reason: str, time: float) -> None:
+        self.cycle.failure, self.cycle.reason = failure, reason
+        self._enter(phase, time)
+
+    def _enter(self, phase: Phase, time: float) -> None:
+        self.cycle.phase, self._since = phase, time
+        self.cycle.phase_times.setdefault(phase.value, time)

@@ -1,0 +1,144 @@
+"""The cycle's planner (`CyclePlanner`) on what the robot perceives: each request plans in a
+planning scene built from the latest perceived scene (table, objects, the person's capsules),
+seeded by the arm's effectivity map; the person's reach comes from the perceived skeleton."""
+
+from __future__ import annotations
+
+import contextlib
+import time
+
+import numpy as np
+
+from hsr_handover.effectivity.arm_map import ArmEffectivity
+from hsr_handover.effectivity.person_map import HumanArm, PersonEffectivity
+from hsr_handover.handover.cycle import PlannedMotions
+from hsr_handover.hsr import GRIPPER_JOINT, PALM_FRAME
+from hsr_handover.planning.grasps import PAD_OFFSET
+from hsr_handover.planning.inverse_kinematics import PalmGoal, solve_palm_ik
+from hsr_handover.planning.perceived_scene import PerceivedScene
+from hsr_handover.planning.planner import (
+    Held,
+    Plan,
+    plan_grasp,
+    plan_handover,
+    plan_retreat,
+)
+from hsr_handover.planning.planning_scene import PlanningScene
+from hsr_handover.planning.retarget import Retargeting, retarget
+from hsr_handover.planning.timing import TimedPath, joint_limits
+from hsr_handover.planning.trajectory import COLLISION_BOUND
+
+FOLLOW_CHECK_S = 0.05  # s between the clearance checks of a re-targeted motion
+
+
+class TimedMotion:
+    """A toppra-timed path as a cycle `Motion`."""
+
+    def __init__(self, timed: TimedPath):
+        self.duration = timed.duration
+        self._trajectory = timed.trajectory
+
+    def state(self, time: float) -> tuple[np.ndarray, np.ndarray]:
+        at = np.array([time])
+        return self._trajectory.values(at)[0], self._trajectory.values(at, 1)[0]
+
+
+class RetargetedMotion:
+    """A ruckig state-to-state motion as a cycle `Motion`."""
+
+    def __init__(self, motion: Retargeting):
+        self.duration = motion.duration
+        self._motion = motion
+
+    def state(self, time: float) -> tuple[np.ndarray, np.ndarray]:
+        position, velocity, _ = self._motion.at(time)
+        return position, velocity
+
+
+def _motions(plan: Plan, started: float) -> PlannedMotions:
+    seconds = time.perf_counter() - started
+    if not plan.ok:
+        return PlannedMotions(False, plan.reason, seconds=seconds)
+    motions = tuple((motion.name, TimedMotion(motion.timed)) for motion in plan.motions)
+    return PlannedMotions(True, "ok", motions, seconds, plan.held)
+
+
+def _holding(scene: PlanningScene, held: Held | None):
+    return contextlib.nullcontext() if held is None else scene.holding(held.label, held.q_grasp)
+
+
+class PerceivedPlanner:
+    """Plans for the cycle from the percepts given to `perceive` (the last given; it keeps no
+    other state between plans, so contexts may share it)."""
+
+    def __init__(self, arm_map: ArmEffectivity):
+        self._arm_map = arm_map
+        self.robot = PlanningScene(PerceivedScene(None))  # the HSR alone: its kinematics
+        self.limits = joint_limits(self.robot.plant)
+        self._percepts: tuple[PerceivedScene, HumanArm | None] = (PerceivedScene(None), None)
+        self._scene: PlanningScene | None = None
+
+    def perceive(self, scene: PerceivedScene, arm: HumanArm | None) -> None:
+        """The latest perceived scene and the person's receiving arm (None if unseen)."""
+        if scene is not self._percepts[0]:
+            self._scene = None
+        self._percepts = (scene, arm)
+
+    def _planning(self) -> PlanningScene:
+        if self._scene is None:
+            self._scene = PlanningScene(self._percepts[0])
+        return self._scene
+
+    def palm(self, q: np.ndarray) -> np.ndarray:
+        """The pads' centre (m, world) with the HSR at `q`."""
+        plant, context = self.robot.plant, self.robot.plant_context
+        plant.SetPositions(context, q)
+        return (
+            plant.GetFrameByName(PALM_FRAME)
+            .CalcPoseInWorld(context)
+            .multiply([0.0, 0.0, PAD_OFFSET])
+        )
+
+    def grasp(self, label: str, q: np.ndarray) -> PlannedMotions:
+        started = time.perf_counter()
+        plan = plan_grasp(self._planning(), self._arm_map, label, q, self.limits)
+        return _motions(plan, started)
+
+    def carry(self, q: np.ndarray, held: Held | None) -> PlannedMotions:
+        started = time.perf_counter()
+        arm = self._percepts[1]
+        if arm is None:
+            return PlannedMotions(False, "no person perceived to hand over to")
+        person = PersonEffectivity(arm)
+        plan = plan_handover(self._planning(), self._arm_map, person, q, self.limits, held)
+        return _motions(plan, started)
+
+    def follow(
+        self, q: np.ndarray, v: np.ndarray, hand: np.ndarray, held: Held | None
+    ) -> PlannedMotions:
+        started = time.perf_counter()
+        scene = self._planning()
+        plant, context = scene.plant, scene.plant_context
+        plant.SetPositions(context, q)
+        palm = plant.GetFrameByName(PALM_FRAME).CalcPoseInWorld(context).rotation().matrix()
+        opening = 2 * q[scene.index(GRIPPER_JOINT)]
+        goal = PalmGoal(np.asarray(hand, dtype=float), palm[:, 2], palm[:, 1], opening)
+        ignore = () if held is None else (held.label,)
+        with _holding(scene, held):
+            found = solve_palm_ik(scene, goal, q, ignore=ignore, base_fixed=True)
+            if not found.ok:
+                return PlannedMotions(False, found.reason, seconds=time.perf_counter() - started)
+            motion = retarget(q, v, np.zeros_like(q), found.q, self.limits)
+            if not motion.ok:
+                return PlannedMotions(False, motion.reason, seconds=time.perf_counter() - started)
+            _, positions = motion.sample(FOLLOW_CHECK_S)
+            clearance = min(scene.clearance_at(p, ignore) for p in positions)
+        seconds = time.perf_counter() - started
+        if clearance < COLLISION_BOUND - 0.003:
+            return PlannedMotions(False, f"the way to the hand comes {clearance:.3f} m near",
+                                  seconds=seconds)  # fmt: skip
+        return PlannedMotions(True, "ok", (("follow", RetargetedMotion(motion)),), seconds)
+
+    def retreat(self, q: np.ndarray, held: Held | None) -> PlannedMotions:
+        started = time.perf_counter()
+        return _motions(plan_retreat(self._planning(), q, self.limits, held), started)

@@ -1,0 +1,135 @@
+"""HandoverSupervisor: the robot's perceiving-acting cycle (issue 10) as a Drake system.
+
+Inputs, all percepts: `hsr_state_measured` and `gripper_opening_measured` (the joint sensors),
+`intent` (the IntentEstimator's state), `perceived_scene`, `skeleton` (lifted) and
+`detections`. Every TICK_S it looks round first (the head panned to the table's ends), then
+steps the `HandoverCycle` on what it perceives; the cycle plans through a `PerceivedPlanner`.
+Outputs: `hsr_desired_state` ([q; v] of COMMANDED_JOINTS: the motion under way, else where it
+stands; the ready posture before any), `gripper_desired_opening`, and `cycle` (the record).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+from pydrake.common.value import AbstractValue
+from pydrake.systems.framework import BasicVector, Context, LeafSystem, State
+
+from hsr_handover.effectivity.arm_map import ArmEffectivity
+from hsr_handover.effectivity.person_map import RECEIVING_SIDE, HumanArm, receiving_arm
+from hsr_handover.handover.cycle import Cycle, HandoverCycle, Percepts, Phase
+from hsr_handover.handover.gaze import look_at
+from hsr_handover.handover.look_round import LOOK_ROUND_S, look_round_pan
+from hsr_handover.handover.perceived_planner import PerceivedPlanner
+from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY, HEAD_JOINTS
+from hsr_handover.perception.coco18 import keypoint_index
+
+TICK_S = 0.1  # s between the supervisor's decisions
+PAN, TILT = (COMMANDED_JOINTS.index(joint) for joint in HEAD_JOINTS)
+
+
+@dataclasses.dataclass
+class _Memory:
+    """What the supervisor carries between ticks: the cycle, the person's arm as last seen
+    with both shoulders, and the command it holds while nothing moves."""
+
+    cycle: HandoverCycle
+    arm: HumanArm | None = None
+    head: tuple[float, float] | None = None  # (pan, tilt) rad while the cycle looks at a point
+
+
+class HandoverSupervisor(LeafSystem):
+    """Steps the handover cycle on the robot's percepts and commands the HSR."""
+
+    def __init__(self, arm_map: ArmEffectivity, ready_state: np.ndarray, ready_opening: float):
+        super().__init__()
+        self._planner = PerceivedPlanner(arm_map)
+        self._robot = self._planner.robot
+        self._rows = np.array([self._robot.index(joint) for joint in COMMANDED_JOINTS])
+        self._ready = np.asarray(ready_state, dtype=float)
+        self._ready_opening = float(ready_opening)
+        n = len(COMMANDED_JOINTS)
+        self._state = self.DeclareVectorInputPort("hsr_state_measured", 2 * n)
+        self._opening = self.DeclareVectorInputPort("gripper_opening_measured", 1)
+        self._intent = self.DeclareAbstractInputPort("intent", AbstractValue.Make(object()))
+        self._scene = self.DeclareAbstractInputPort("perceived_scene", AbstractValue.Make(object()))
+        self._skeleton = self.DeclareAbstractInputPort("skeleton", AbstractValue.Make(object()))
+        self._detections = self.DeclareAbstractInputPort("detections", AbstractValue.Make(object()))
+        memory = _Memory(HandoverCycle(self._planner))
+        self._memory = self.DeclareAbstractState(AbstractValue.Make(memory))
+        self.DeclareVectorOutputPort("hsr_desired_state", 2 * n, self._calc_state)
+        self.DeclareVectorOutputPort("gripper_desired_opening", 1, self._calc_opening)
+        self.DeclareAbstractOutputPort(
+            "cycle", lambda: AbstractValue.Make(Cycle()), self._calc_cycle
+        )
+        self.DeclarePeriodicUnrestrictedUpdateEvent(TICK_S, 0.0, self._tick)
+
+    def _memory_of(self, context: Context) -> _Memory:
+        return context.get_abstract_state(self._memory).get_value()
+
+    def _tick(self, context: Context, state: State) -> None:
+        memory: _Memory = state.get_mutable_abstract_state(self._memory).get_value()
+        time = context.get_time()
+        if time < LOOK_ROUND_S:
+            return
+        skeleton = self._skeleton.Eval(context)
+        arm = receiving_arm([skeleton])
+        memory.arm = arm if arm is not None else memory.arm
+        self._planner.perceive(self._scene.Eval(context), memory.arm)
+        percepts = self._percepts(context, skeleton, memory.arm)
+        memory.cycle.step(percepts)
+        point = memory.cycle.gaze()
+        memory.head = None if point is None else look_at(self._robot, percepts.q, point)
+
+    def _percepts(self, context: Context, skeleton, arm: HumanArm | None) -> Percepts:
+        measured = self._state.Eval(context)[: len(COMMANDED_JOINTS)]
+        opening = float(self._opening.Eval(context)[0])
+        self._robot.set_positions(dict(zip(COMMANDED_JOINTS, measured, strict=True))
+                                  | {GRIPPER_KEY: opening})  # fmt: skip
+        q = self._robot.positions()
+        target = self._intent.Eval(context).target
+        seen = None
+        for detection in self._detections.Eval(context).detections:
+            if detection.label == target and np.all(np.isfinite(detection.center)):
+                seen = np.asarray(detection.center, dtype=float)
+        person = None if arm is None else arm.shoulder
+        return Percepts(context.get_time(), q, opening, target, seen, _wrist(skeleton),
+                        self._planner.palm(q), person)  # fmt: skip
+
+    def _calc_state(self, context: Context, output: BasicVector) -> None:
+        time = context.get_time()
+        memory = self._memory_of(context)
+        q, v, _ = memory.cycle.command(time)
+        if q is None:
+            command = self._ready.copy()
+            if memory.cycle.cycle.phase is Phase.WATCH:
+                command[PAN] = look_round_pan(time, self._ready[PAN])
+        else:
+            command = np.concatenate([q[self._rows], v[self._rows]])
+        if memory.head is not None:
+            n = len(COMMANDED_JOINTS)
+            command[[PAN, TILT]] = memory.head
+            command[[n + PAN, n + TILT]] = 0.0
+        output.SetFromVector(command)
+
+    def _calc_opening(self, context: Context, output: BasicVector) -> None:
+        cycle = self._memory_of(context).cycle
+        if cycle.cycle.phase is Phase.WATCH:
+            output.SetFromVector([self._ready_opening])
+            return
+        output.SetFromVector([cycle.command(context.get_time())[2]])
+
+    def _calc_cycle(self, context: Context, output: AbstractValue) -> None:
+        output.set_value(dataclasses.replace(self._memory_of(context).cycle.cycle))
+
+
+_WRIST = keypoint_index(f"{RECEIVING_SIDE}_wrist")
+
+
+def _wrist(skeleton) -> np.ndarray | None:
+    """The receiving wrist (m, world), None when not seen."""
+    if skeleton is None or skeleton.confidence[_WRIST] <= 0:
+        return None
+    point = skeleton.points[_WRIST]
+    return point if np.all(np.isfinite(point)) else None

@@ -1,0 +1,218 @@
+"""The handover cycle as a state machine, on percepts and a planner of straight-line motions."""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+
+import numpy as np
+import pytest
+
+from hsr_handover.handover.cycle import (
+    CLOSED,
+    HOLD_S,
+    OPEN,
+    SETTLE_S,
+    WAIT_S,
+    Failure,
+    HandoverCycle,
+    Percepts,
+    Phase,
+    PlannedMotions,
+)
+
+TICK = 0.1
+OBJECT = np.array([0.8, 0.0, 0.76])
+
+
+class Line:
+    """A straight motion from `start` to `end` over `duration` s."""
+
+    def __init__(self, start, end, duration=1.0):
+        self.start, self.end, self.duration = np.asarray(start), np.asarray(end), duration
+
+    def state(self, time):
+        s = float(np.clip(time / self.duration, 0.0, 1.0))
+        return self.start + s * (self.end - self.start), (self.end - self.start) / self.duration
+
+
+@dataclasses.dataclass
+class Planner:
+    """Plans straight lines between fixed configurations; records what it was asked."""
+
+    grasp_ok: bool = True
+    asked: list = dataclasses.field(default_factory=list)
+
+    def grasp(self, label, q):
+        self.asked.append(("grasp", label))
+        if not self.grasp_ok:
+            return PlannedMotions(False, "unreachable: no base pose reaches it", seconds=0.2)
+        motions = (("move", Line(q, q + 1)), ("approach", Line(q + 1, q + 2)),
+                   ("lift", Line(q + 2, q + 3)))  # fmt: skip
+        return PlannedMotions(True, "ok", motions, 0.3, held="the grasp")
+
+    def carry(self, q, held):
+        self.asked.append(("carry", held))
+        return PlannedMotions(True, "ok", (("carry", Line(q, q + 1, 2.0)),), 0.5)
+
+    def follow(self, q, v, hand, held):
+        self.asked.append(("follow", tuple(hand)))
+        return PlannedMotions(True, "ok", (("follow", Line(q, q + 0.5, 0.5)),), 0.01)
+
+    def retreat(self, q, held):
+        self.asked.append(("retreat", held))
+        return PlannedMotions(True, "ok", (("retreat", Line(q, np.zeros_like(q))),), 0.1)
+
+
+class World:
+    """Ticks a cycle: the joints follow the command exactly; the rest is set per test."""
+
+    def __init__(self, planner=None):
+        self.planner = planner or Planner()
+        self.cycle = HandoverCycle(self.planner)
+        self.time, self.q = 0.0, np.zeros(3)
+        self.opening, self.target, self.seen = 0.1, None, OBJECT.copy()
+        self.hand = None
+        self.palm = np.array([1.2, 0.2, 0.95])
+
+    def tick(self, seconds: float = TICK):
+        end = self.time + seconds
+        while self.time < end - 1e-9:
+            self.time = round(self.time + TICK, 9)
+            q, _, _ = self.cycle.command(self.time)
+            self.q = self.q if q is None else q
+            percepts = Percepts(self.time, self.q, self.opening, self.target, self.seen,
+                                self.hand, self.palm, np.array([1.7, 0.2, 1.2]))  # fmt: skip
+            record = self.cycle.step(percepts)
+        return record
+
+    def until(self, phase: Phase, limit: float = 30.0):
+        start = self.time
+        while self.cycle.cycle.phase is not phase:
+            assert self.time - start < limit, f"stuck in {self.cycle.cycle.phase}"
+            self.tick()
+        return self.cycle.cycle
+
+
+def _to_present(world: World) -> None:
+    world.target = "yellow"
+    world.until(Phase.GRASP)
+    world.opening = 0.06  # closed on the object
+    world.until(Phase.LIFT)
+    world.seen = OBJECT + [0, 0, 0.08]  # it rises with the hand
+    world.until(Phase.PRESENT)
+
+
+def test_it_watches_until_a_target_is_recognised():
+    world = World()
+    record = world.tick(2.0)
+    assert record.phase is Phase.WATCH and world.planner.asked == []
+    assert world.cycle.command(world.time)[0] is None and world.cycle.gaze() is None
+
+
+def test_a_whole_handover_runs_through_every_phase_in_order():
+    world = World()
+    _to_present(world)
+    assert world.cycle.command(world.time)[2] == CLOSED
+    world.hand = world.palm + [0.05, 0.0, 0.0]  # the person's hand at the object
+    world.until(Phase.RELEASE)
+    assert world.cycle.command(world.time)[2] == OPEN
+    record = world.until(Phase.DONE)
+    assert record.failure is None and record.target == "yellow"
+    assert list(record.phase_times) == ["approach", "grasp", "lift", "carry", "present",
+                                        "release", "retreat", "done"]  # fmt: skip
+    times = record.phase_times
+    assert times["grasp"] - times["approach"] == pytest.approx(2.0, abs=0.21)  # two 1 s moves
+    assert times["release"] - times["present"] >= HOLD_S
+    assert record.planning_s == pytest.approx(0.3 + 0.5 + 0.1)
+    assert [ask[0] for ask in world.planner.asked] == ["grasp", "carry", "retreat"]
+    assert world.planner.asked[1] == ("carry", "the grasp")  # the grasp's hold, carried
+    assert world.planner.asked[2] == ("retreat", None)  # let go: retreats empty-handed
+
+
+def test_the_gripper_closes_only_once_the_approach_is_done():
+    world = World()
+    world.target = "yellow"
+    world.tick(0.5)
+    assert world.cycle.cycle.phase is Phase.APPROACH
+    assert world.cycle.command(world.time)[2] == OPEN
+    np.testing.assert_allclose(world.cycle.gaze(), OBJECT)  # it watches its hand's work
+    world.until(Phase.GRASP)
+    assert world.cycle.command(world.time)[2] == CLOSED
+
+
+def test_an_unreachable_target_fails_with_the_planners_reason():
+    world = World(Planner(grasp_ok=False))
+    world.target = "yellow"
+    record = world.until(Phase.FAILED)
+    assert record.failure is Failure.UNREACHABLE and "no base pose" in record.reason
+
+
+def test_a_gripper_closed_on_nothing_is_a_missed_grasp():
+    world = World()
+    world.target = "yellow"
+    world.until(Phase.GRASP)
+    world.opening = 0.0
+    record = world.until(Phase.FAILED)
+    assert record.failure is Failure.GRASP_MISSED
+    assert record.phase_times["failed"] - record.phase_times["grasp"] >= SETTLE_S
+
+
+def test_an_object_that_stays_on_the_table_is_a_missed_grasp():
+    world = World()
+    world.target = "yellow"
+    world.until(Phase.GRASP)
+    world.opening = 0.06
+    record = world.until(Phase.FAILED)  # the camera still sees it where it stood
+    assert record.failure is Failure.GRASP_MISSED and "rose 0.0 cm" in record.reason
+
+
+def test_an_object_that_slips_out_during_the_carry_is_dropped():
+    world = World()
+    world.target = "yellow"
+    world.until(Phase.GRASP)
+    world.opening = 0.06
+    world.until(Phase.LIFT)
+    world.seen = OBJECT + [0, 0, 0.08]
+    world.until(Phase.CARRY)
+    world.opening = 0.002
+    record = world.until(Phase.FAILED)
+    assert record.failure is Failure.DROPPED
+
+
+def test_no_hand_in_time_fails_by_timeout_and_the_robot_keeps_the_object():
+    world = World()
+    _to_present(world)
+    world.hand = world.palm + [0.5, 0.0, 0.0]  # in view, never near
+    record = world.until(Phase.FAILED, limit=WAIT_S + 5)
+    assert record.failure is Failure.TIMEOUT and "holding it" in record.reason
+    assert world.cycle.command(world.time)[2] == CLOSED
+    assert world.planner.asked[-1] == ("retreat", "the grasp")
+
+
+def test_a_person_out_of_sight_while_presenting_withdrew():
+    world = World()
+    _to_present(world)
+    world.hand = None
+    record = world.until(Phase.FAILED)
+    assert record.failure is Failure.PERSON_WITHDREW
+
+
+def test_a_hand_held_out_elsewhere_is_followed():
+    world = World()
+    _to_present(world)
+    world.hand = world.palm + [0.0, 0.3, 0.0]
+    world.tick()
+    assert world.planner.asked[-1][0] == "follow"
+    assert world.cycle.command(world.time + 0.25)[0] is not None
+
+
+def test_a_copy_steps_on_its_own():
+    """Drake copies the state with each context: a copy must not share the record."""
+    world = World()
+    world.target = "yellow"
+    world.tick()
+    clone = copy.deepcopy(world.cycle)
+    world.until(Phase.GRASP)
+    assert clone.cycle.phase is Phase.APPROACH
+    assert "grasp" not in clone.cycle.phase_times
