@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from pydrake.math import RigidTransform
 from pydrake.systems.analysis import Simulator
 
 from hsr_handover import interface
@@ -225,3 +226,23 @@ def test_standing_person_has_adult_proportions_and_clears_the_table(write_scenar
     ):
         height = _frame_position(station, context, frame)[2]
         assert height == pytest.approx(ratio * 1.85, abs=0.01), frame
+
+
+def test_a_dropped_object_lands_on_the_floor_and_the_hsr_still_drives(station_alone):
+    diagram, plant = station_alone.diagram, station_alone.plant
+    context = diagram.CreateDefaultContext()
+    state, _ = ready_command(station_alone.scenario)
+    state[COMMANDED_JOINTS.index("base_x_joint")] = -0.1  # the base slides over the floor
+    diagram.GetInputPort(interface.HSR_DESIRED_STATE).FixValue(context, state)
+    diagram.GetInputPort(interface.GRIPPER_DESIRED_OPENING).FixValue(context, [0.08])
+    plant_context = plant.GetMyMutableContextFromRoot(context)
+    name, instance = next(iter(station_alone.objects.items()))
+    cup = plant.GetBodyByName(name, instance)
+    plant.SetFreeBodyPose(plant_context, cup, RigidTransform([-1.0, 1.0, 0.5]))
+    Simulator(diagram, context).AdvanceTo(1.5)
+    height = station_alone.scenario.objects[0].size[-1]
+    assert cup.EvalPoseInWorld(plant_context).translation()[2] == pytest.approx(
+        height / 2, abs=0.01
+    )
+    measured = diagram.GetOutputPort(interface.HSR_STATE_MEASURED).Eval(context)
+    assert measured[COMMANDED_JOINTS.index("base_x_joint")] == pytest.approx(-0.1, abs=2e-3)

@@ -47,8 +47,10 @@ from hsr_handover.scenario import (
 from hsr_handover.station.camera import add_head_camera
 from hsr_handover.station.hsr_interface import add_hsr_interface
 from hsr_handover.station.world import (
+    add_floor,
     add_world,
     couple_default_positions,
+    floor_filter,
     person_actions,
     render_params,
     set_default_positions,
@@ -84,10 +86,11 @@ def _add_plant(builder: DiagramBuilder, scenario: Scenario):
     robot = add_hsr(plant, parser, resolve_model_path(scenario.robot.model, scenario.source))
     body = BodyDimensions.from_height(scenario.person.height, scenario.person.posture == "seated")
     table, person, objects = add_world(plant, parser, scenario, body)
+    floor = add_floor(plant)
     start = robot_start_positions(scenario)
     set_default_positions(plant, robot, start, "robot.joints", scenario.source)
     couple_default_positions(plant, robot, start)
-    return plant, scene_graph, robot, body, table, person, objects
+    return plant, scene_graph, robot, body, table, person, objects, floor
 
 
 def _person_timeline(
@@ -158,9 +161,10 @@ def build_station(scenario: Scenario, meshcat: Meshcat | None = None) -> Station
     """Build the world's Diagram (ports in the module docstring). With `meshcat`, the world is
     drawn there at the scenario's replay rate."""
     builder = DiagramBuilder()
-    plant, scene_graph, robot, body, table, person, objects = _add_plant(builder, scenario)
+    plant, scene_graph, robot, body, table, person, objects, floor = _add_plant(builder, scenario)
     timeline = _person_timeline(plant, person, body, scenario)
     plant.Finalize()
+    scene_graph.collision_filter_manager().Apply(floor_filter(plant, floor, (robot, person)))
     actor = builder.AddNamedSystem(
         "human_actor", HumanActor(timeline, actuated_joint_names(plant, person))
     )

@@ -4,10 +4,17 @@ robot's and the person's start configurations."""
 from __future__ import annotations
 
 import numpy as np
-from pydrake.geometry import LightParameter, RenderEngineVtkParams
+from pydrake.geometry import (
+    CollisionFilterDeclaration,
+    GeometryId,
+    GeometrySet,
+    HalfSpace,
+    LightParameter,
+    RenderEngineVtkParams,
+)
 from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.multibody.parsing import Parser
-from pydrake.multibody.plant import MultibodyPlant
+from pydrake.multibody.plant import CoulombFriction, MultibodyPlant
 from pydrake.multibody.tree import ModelInstanceIndex
 
 from hsr_handover.hsr import GRIPPER_JOINT, GRIPPER_MIMIC_JOINT, TORSO_JOINT
@@ -23,6 +30,7 @@ from hsr_handover.scene.object_models import object_sdf
 from hsr_handover.scene.person_model import person_sdf
 from hsr_handover.scene.table_model import table_sdf
 
+FLOOR_FRICTION = CoulombFriction(0.6, 0.5)
 PERSON_STREAM = 0x9E4
 """Keys the person's random draws apart from the other users of the run's seed."""
 
@@ -72,6 +80,22 @@ def person_actions(scenario: Scenario, body: BodyDimensions) -> list[Action]:
             Action(item.action, item.start, end, point, item.arm, head_fraction, arm_point)
         )
     return actions
+
+
+def add_floor(plant: MultibodyPlant) -> GeometryId:
+    """The floor, for what falls (collision only: the camera's view is unchanged, and the
+    robot and the person are kept off it by `floor_filter`)."""
+    return plant.RegisterCollisionGeometry(
+        plant.world_body(), RigidTransform(), HalfSpace(), "floor", FLOOR_FRICTION
+    )
+
+
+def floor_filter(plant: MultibodyPlant, floor: GeometryId, instances) -> CollisionFilterDeclaration:
+    """The HSR's base and the person's feet stand on joints, not on the floor: no contact with
+    it for the bodies of `instances`."""
+    ids = [gid for instance in instances for index in plant.GetBodyIndices(instance)
+           for gid in plant.GetCollisionGeometriesForBody(plant.get_body(index))]  # fmt: skip
+    return CollisionFilterDeclaration().ExcludeBetween(GeometrySet(floor), GeometrySet(ids))
 
 
 def add_world(
