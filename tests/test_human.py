@@ -147,3 +147,17 @@ def test_timeline_interrupted_move_starts_where_the_body_is():
     after, _ = timeline.evaluate(1.2 + 1e-9)
     np.testing.assert_allclose(before, after, atol=1e-6)
     assert timeline.evaluate(1.2 + MIN_MOVE_TIME + 2.0)[0] == pytest.approx(rest_posture(BODY))
+
+
+def test_an_interrupted_timeline_keeps_its_past_and_moves_on_from_where_the_body_is():
+    body = BodyDimensions.from_height(1.7, seated=True)
+    rest = rest_posture(body)
+    raised = rest + 0.5
+    timeline = PostureTimeline([(0.0, rest), (1.0, raised)])
+    goal = rest - 0.3
+    changed = timeline.interrupted(1.5, goal)
+    for time in (0.5, 1.2, 1.49):
+        np.testing.assert_allclose(changed.evaluate(time)[0], timeline.evaluate(time)[0])
+    np.testing.assert_allclose(changed.evaluate(1.5)[1], timeline.evaluate(1.5)[1])  # moving on
+    np.testing.assert_allclose(changed.evaluate(10.0)[0], goal)
+    np.testing.assert_allclose(timeline.evaluate(10.0)[0], raised)  # the original is unchanged

@@ -49,10 +49,14 @@ OPEN = 0.1  # m of opening to approach and to let go with
 CLOSED = 0.0  # m commanded to grasp: the fingers stop on the object
 SETTLE_S = 0.8  # s the gripper is given to close or open
 RISE = 0.03  # m the object must rise with the hand, seen by the camera, for a grasp to count
+LOOK_S = 0.8  # s the robot looks at the person before it plans the way to them
 REACH = 0.15
 """m: the person's hand this near the object counts as reaching for it (a hand's length: the
 wrist keypoint sits that far from the fingers that close on it)."""
 HOLD_S = 0.8  # s the hand stays at the object before the robot lets go
+PULL = 0.01
+"""m the palm may be pulled off its commanded point, still, before the robot lets go: the
+person has hold of the object and draws it in (the arm's own sag is under 3 mm)."""
 RETARGET = 0.10  # m the hand may move from where the object is held before the robot follows
 WAIT_S = 12.0  # s the robot presents the object before it gives up (HandoverSim's 13 s limit)
 LOST_S = 2.0  # s without seeing the person while presenting: the person withdrew
@@ -73,8 +77,9 @@ class Percepts:
     gripper's measured `opening` (m), the `target` recognised (None until one is), the target
     object's centre as the camera sees it now (`object_seen`, None when not in view), the
     receiving hand from the skeleton (`hand`, None when not seen), the palm's point by forward
-    kinematics of `q` (`palm`) and a point on the person to look at (`person`, the receiving
-    shoulder as last seen)."""
+    kinematics of `q` (`palm`), a point on the person seen now (`person`, the receiving
+    shoulder; None when the person is not in view) and how far the joint sensors put the palm
+    from where it is commanded (`pull`, m: a person tugging at the object held)."""
 
     time: float
     q: np.ndarray
@@ -84,6 +89,7 @@ class Percepts:
     hand: np.ndarray | None = None
     palm: np.ndarray | None = None
     person: np.ndarray | None = None
+    pull: float = 0.0
 
 
 @dataclasses.dataclass(frozen=True)
@@ -162,6 +168,7 @@ class HandoverCycle:
         self._after_retreat: tuple[Phase, Failure | None, str] = (Phase.DONE, None, "")
         self._lift_motion: tuple[str, Motion] | None = None
         self._person: np.ndarray | None = None
+        self._turned: float | None = None  # when it turned to the person, the object lifted
 
     def __deepcopy__(self, memo: dict) -> HandoverCycle:
         clone = copy.copy(self)
@@ -186,7 +193,8 @@ class HandoverCycle:
         while watching (the head is the watcher's)."""
         if self.cycle.phase is Phase.WATCH:
             return None
-        if self.cycle.phase in (Phase.APPROACH, Phase.GRASP, Phase.LIFT):
+        on_object = (Phase.APPROACH, Phase.GRASP, Phase.LIFT)
+        if self.cycle.phase in on_object and self._turned is None:
             return self._object_start
         return self._person
 
@@ -232,10 +240,14 @@ class HandoverCycle:
     def _lift(self, p: Percepts) -> None:
         if self._dropped(p) or self._moving(p.time):
             return
-        start, seen = self._object_start, p.object_seen
-        if start is not None and seen is not None and seen[2] - start[2] < RISE:
-            reason = f"the object rose {100 * (seen[2] - start[2]):.1f} cm with the hand"
-            self._fail_and_retreat(p, Failure.GRASP_MISSED, reason)
+        if self._turned is None:
+            start, seen = self._object_start, p.object_seen
+            if start is not None and seen is not None and seen[2] - start[2] < RISE:
+                reason = f"the object rose {100 * (seen[2] - start[2]):.1f} cm with the hand"
+                self._fail_and_retreat(p, Failure.GRASP_MISSED, reason)
+                return
+            self._turned = p.time  # the person in view again before planning the way there
+        if p.time - self._turned < LOOK_S:
             return
         planned = self._plan(self._planner.carry(p.q, self._held), p, holding=True)
         if planned is not None:
@@ -249,18 +261,23 @@ class HandoverCycle:
         self._seen_at, self._near_since = p.time, None
 
     def _present(self, p: Percepts) -> None:
+        if p.person is not None:
+            self._seen_at = p.time
+        if p.pull > PULL and not self._moving(p.time):
+            self._let_go(p)
+            return
         if self._dropped(p):
             return
         if p.time - self._since > WAIT_S:
             reason = f"no hand came for the object in {WAIT_S:.0f} s; holding it"
             self._fail_and_retreat(p, Failure.TIMEOUT, reason, holding=True)
             return
-        if p.hand is None:
-            if p.time - self._seen_at > LOST_S:
-                reason = f"the person was out of sight for {LOST_S:.0f} s; holding the object"
-                self._fail_and_retreat(p, Failure.PERSON_WITHDREW, reason, holding=True)
+        if p.time - self._seen_at > LOST_S:
+            reason = f"the person was out of sight for {LOST_S:.0f} s; holding the object"
+            self._fail_and_retreat(p, Failure.PERSON_WITHDREW, reason, holding=True)
             return
-        self._seen_at = p.time
+        if p.hand is None:
+            return
         distance = float(np.linalg.norm(p.hand - p.palm)) if p.palm is not None else math.inf
         if distance > REACH:
             self._near_since = None
@@ -269,10 +286,13 @@ class HandoverCycle:
             return
         self._near_since = p.time if self._near_since is None else self._near_since
         if p.time - self._near_since >= HOLD_S:
-            self._gripper = OPEN
-            self._running, self._queue = None, []
-            self._hold = (p.q, np.zeros_like(p.q))
-            self._enter(Phase.RELEASE, p.time)
+            self._let_go(p)
+
+    def _let_go(self, p: Percepts) -> None:
+        self._gripper = OPEN
+        self._running, self._queue = None, []
+        self._hold = (p.q, np.zeros_like(p.q))
+        self._enter(Phase.RELEASE, p.time)
 
     def _follow(self, p: Percepts) -> None:
         """Re-target state to state (ruckig) to hold the object out at the hand."""
@@ -283,7 +303,8 @@ class HandoverCycle:
             self._moving(p.time)
 
     def _release(self, p: Percepts) -> None:
-        if p.time - self._since < SETTLE_S:
+        opened = p.opening >= OPEN - HELD_OPENING
+        if p.time - self._since < SETTLE_S or not (opened or p.time - self._since > 3 * SETTLE_S):
             return
         self._retreat_then(p, Phase.DONE, None, "", holding=False)
 

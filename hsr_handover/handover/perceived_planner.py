@@ -5,6 +5,7 @@ seeded by the arm's effectivity map; the person's reach comes from the perceived
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import time
 
 import numpy as np
@@ -63,13 +64,27 @@ def _motions(plan: Plan, started: float) -> PlannedMotions:
     return PlannedMotions(True, "ok", motions, seconds, plan.held)
 
 
+def remember(last: PerceivedScene | None, scene: PerceivedScene) -> PerceivedScene:
+    """The `scene` now, with what the camera has turned away from as it was `last` seen: the
+    table, and the person unless seen now as whole as then (people do not vanish, or lose
+    limbs, when the robot looks at its hand)."""
+    if last is None:
+        return scene
+    whole = len(scene.person) >= len(last.person)
+    return dataclasses.replace(
+        scene,
+        table=scene.table if scene.table is not None else last.table,
+        person=scene.person if whole else last.person,
+    )
+
+
 def _holding(scene: PlanningScene, held: Held | None):
     return contextlib.nullcontext() if held is None else scene.holding(held.label, held.q_grasp)
 
 
 class PerceivedPlanner:
-    """Plans for the cycle from the percepts given to `perceive` (the last given; it keeps no
-    other state between plans, so contexts may share it)."""
+    """Plans for the cycle from the percepts last given to `perceive`; it keeps no other state
+    between plans, so contexts may share it."""
 
     def __init__(self, arm_map: ArmEffectivity):
         self._arm_map = arm_map
@@ -79,7 +94,7 @@ class PerceivedPlanner:
         self._scene: PlanningScene | None = None
 
     def perceive(self, scene: PerceivedScene, arm: HumanArm | None) -> None:
-        """The latest perceived scene and the person's receiving arm (None if unseen)."""
+        """The perceived scene to plan in and the person's receiving arm (None if unseen)."""
         if scene is not self._percepts[0]:
             self._scene = None
         self._percepts = (scene, arm)

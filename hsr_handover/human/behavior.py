@@ -256,6 +256,17 @@ class PostureTimeline:
             self._moves.append(_Move.starting(time, origin, velocity, goal))
             self._starts = np.append(self._starts, time)
 
+    def interrupted(self, time: float, goal: np.ndarray) -> PostureTimeline:
+        """This timeline until `time`, then a move from wherever the body is to `goal`, the
+        rest of the script dropped (a person who reacts to the world)."""
+        origin, velocity = self.evaluate(time)
+        kept = self._starts < time
+        clone = PostureTimeline.__new__(PostureTimeline)
+        clone._moves = [m for m, keep in zip(self._moves, kept, strict=True) if keep]
+        clone._moves.append(_Move.starting(time, origin, velocity, goal))
+        clone._starts = np.append(self._starts[kept], time)
+        return clone
+
     def evaluate(self, time: float) -> tuple[np.ndarray, np.ndarray]:
         """Positions and velocities at `time`."""
         index = max(int(np.searchsorted(self._starts, time, side="right")) - 1, 0)

@@ -367,6 +367,8 @@ def _check_person(scenario: Scenario, fail: Fail) -> None:
     _number(fail, "person.yaw", person.yaw, YAW)
     _number(fail, "person.height", person.height, Interval(1.2, 2.1, "m, an adult"))
     _choice(fail, "person.posture", person.posture, ("seated", "standing"))
+    _number(fail, "person.receiving.reaction_s", person.receiving.reaction_s, Interval(0, 10, "s"))
+    _choice(fail, "person.receiving.arm", person.receiving.arm, ("right", "left"))
     names = sorted(obj.name for obj in scenario.objects)
     _check_time_order(fail, "person.behavior", [action.start for action in person.behavior])
     for index, action in enumerate(person.behavior):

@@ -14,6 +14,7 @@ import dataclasses
 from dataclasses import field
 
 from hsr_handover.human.imprecision import Imprecision
+from hsr_handover.human.receiving import ReceivingParams
 from hsr_handover.intent import IntentParams
 from hsr_handover.perception.attention import DEFAULT_ATTENTION_WEIGHT
 from hsr_handover.perception.cloud_map import SCENE_GNG_PARAMS, SIGNALS_PER_FRAME
@@ -163,6 +164,22 @@ class VariationConfig:
 
 
 @dataclasses.dataclass
+class ReceivingConfig:
+    """How the person takes an object the robot holds out (the world side of a handover):
+    `takes` (false: never reaches, so the robot must give up), `reaction_s` from the offer
+    (the object still and within reach) to the reach, and the `arm`.
+
+    Ranges: reaction_s in [0, 10] s; arm "right" or "left"."""
+
+    takes: bool = ReceivingParams.takes
+    reaction_s: float = ReceivingParams.reaction_s
+    arm: str = ReceivingParams.arm
+
+    def params(self) -> ReceivingParams:
+        return ReceivingParams(self.takes, self.reaction_s, self.arm)
+
+
+@dataclasses.dataclass
 class PersonConfig:
     """An adult at the table: feet position [x, y] and yaw (facing its +x), height, posture
     ("seated" or "standing"), the behaviour script, how imprecisely they point and look, and
@@ -177,6 +194,7 @@ class PersonConfig:
     behavior: list[ActionConfig] = field(default_factory=list)
     imprecision: ImprecisionConfig = field(default_factory=ImprecisionConfig)
     variation: VariationConfig = field(default_factory=VariationConfig)
+    receiving: ReceivingConfig = field(default_factory=ReceivingConfig)
 
 
 @dataclasses.dataclass

@@ -18,6 +18,13 @@ from hsr_handover.scene.sdf_shapes import (
 
 OBJECT_SHAPES = {"cup": 2, "box": 3}  # shape -> number of size values
 OBJECT_FRICTION = 1.0
+OBJECT_CONTACT = (
+    "<drake:compliant_hydroelastic/><drake:mesh_resolution_hint>0.01</drake:mesh_resolution_hint>"
+    "<drake:hydroelastic_modulus>1e7</drake:hydroelastic_modulus>"
+    "<drake:hunt_crossley_dissipation>5</drake:hunt_crossley_dissipation>"
+)
+"""Compliant like the gripper's pads, so that a grasp is a contact patch (a compliant pad on a
+rigid object falls back to point contact); the mesh hint makes a cup's cylinder mesh."""
 
 
 def object_height(shape_name: str, size: Sequence[float]) -> float:
@@ -38,6 +45,6 @@ def object_sdf(name: str, shape_name: str, size: Sequence[float], color: str, ma
         geometry, moments = box_geometry(size), box_inertia(mass, size)
     link = (
         f'<link name="{name}">{inertial(mass, moments)}'
-        f"{shape(name, geometry, (0,) * 6, rgba, OBJECT_FRICTION)}</link>"
+        f"{shape(name, geometry, (0,) * 6, rgba, OBJECT_FRICTION, OBJECT_CONTACT)}</link>"
     )
     return model(name, link)

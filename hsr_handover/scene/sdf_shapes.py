@@ -59,18 +59,21 @@ def shape(
     pose: Sequence[float],
     rgba: Sequence[float] | None,
     friction: float = 0.8,
+    proximity: str = "",
 ) -> str:
-    """A visual (when rgba is given) and a collision element with the same geometry and pose."""
+    """A visual (when rgba is given) and a collision element with the same geometry and pose;
+    `proximity` is Drake's <drake:proximity_properties> body for the collision, if any."""
     visual = ""
     if rgba is not None:
         visual = (
             f'<visual name="{name}_visual"><pose>{fmt(pose)}</pose>{geometry}'
             f"<material><diffuse>{fmt(rgba)}</diffuse></material></visual>"
         )
+    properties = f"<drake:proximity_properties>{proximity}</drake:proximity_properties>"
     collision = (
         f'<collision name="{name}_collision"><pose>{fmt(pose)}</pose>{geometry}'
-        f"<surface><friction><ode><mu>{friction:.6g}</mu><mu2>{friction:.6g}</mu2></ode>"
-        f"</friction></surface></collision>"
+        f"{properties if proximity else ''}<surface><friction><ode><mu>{friction:.6g}</mu>"
+        f"<mu2>{friction:.6g}</mu2></ode></friction></surface></collision>"
     )
     return visual + collision
 

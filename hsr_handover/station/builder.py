@@ -37,6 +37,7 @@ from hsr_handover import interface
 from hsr_handover.hsr import actuated_joint_names, add_hsr
 from hsr_handover.human.behavior import PostureTimeline, posture_changes
 from hsr_handover.human.body import PERSON_JOINTS, BodyDimensions
+from hsr_handover.human.receiving import Receiver
 from hsr_handover.perception.skeleton import SkeletonNoise
 from hsr_handover.scenario import (
     Scenario,
@@ -52,11 +53,13 @@ from hsr_handover.station.world import (
     couple_default_positions,
     floor_filter,
     person_actions,
+    person_pose,
     render_params,
     set_default_positions,
 )
+from hsr_handover.systems.hand_grip import HandGrip
 from hsr_handover.systems.head_camera import HeadCamera, to_camera_info
-from hsr_handover.systems.human_actor import HumanActor
+from hsr_handover.systems.human_actor import HumanActor, WorldBodies
 from hsr_handover.systems.skeleton_sensor import SkeletonSensor
 
 RENDERER = "vtk"
@@ -104,6 +107,34 @@ def _person_timeline(
         plant, person, dict(zip(PERSON_JOINTS, rest, strict=True)), "person", scenario.source
     )
     return timeline
+
+
+def _add_person(builder, plant, person, objects, body, timeline, scenario) -> None:
+    """The person's actor (the script, and taking what the robot holds out) and the hand's
+    grip on what it takes."""
+    params = scenario.person.receiving.params()
+    side = "r_" if params.arm == "right" else "l_"
+    hand = int(plant.GetBodyByName(f"{side}hand", person).index())
+    bodies = {name: int(plant.GetBodyIndices(instance)[0]) for name, instance in objects.items()}
+    world = WorldBodies(hand, body.hand / 2, bodies, person_pose(scenario))
+    actor = builder.AddNamedSystem(
+        "human_actor",
+        HumanActor(timeline, actuated_joint_names(plant, person), Receiver(body, params), world),
+    )
+    builder.Connect(
+        actor.GetOutputPort("person_desired_state"), plant.get_desired_state_input_port(person)
+    )
+    builder.Connect(plant.get_body_poses_output_port(), actor.GetInputPort("body_poses"))
+    grip = builder.AddNamedSystem("hand_grip", HandGrip(hand, bodies))
+    builder.Connect(actor.GetOutputPort("grip"), grip.GetInputPort("grip"))
+    builder.Connect(plant.get_body_poses_output_port(), grip.GetInputPort("body_poses"))
+    builder.Connect(
+        plant.get_body_spatial_velocities_output_port(),
+        grip.GetInputPort("body_spatial_velocities"),
+    )
+    builder.Connect(
+        grip.GetOutputPort("spatial_forces"), plant.get_applied_spatial_force_input_port()
+    )
 
 
 def _add_sensors(builder, plant, scene_graph, robot, person, scenario: Scenario) -> HeadCamera:
@@ -165,10 +196,7 @@ def build_station(scenario: Scenario, meshcat: Meshcat | None = None) -> Station
     timeline = _person_timeline(plant, person, body, scenario)
     plant.Finalize()
     scene_graph.collision_filter_manager().Apply(floor_filter(plant, floor, (robot, person)))
-    actor = builder.AddNamedSystem(
-        "human_actor", HumanActor(timeline, actuated_joint_names(plant, person))
-    )
-    builder.Connect(actor.get_output_port(), plant.get_desired_state_input_port(person))
+    _add_person(builder, plant, person, objects, body, timeline, scenario)
     add_hsr_interface(builder, plant, robot)
     scene_graph.AddRenderer(RENDERER, MakeRenderEngineVtk(render_params()))
     _add_sensors(builder, plant, scene_graph, robot, person, scenario)

@@ -21,9 +21,10 @@ from hsr_handover.effectivity.person_map import RECEIVING_SIDE, HumanArm, receiv
 from hsr_handover.handover.cycle import Cycle, HandoverCycle, Percepts, Phase
 from hsr_handover.handover.gaze import look_at
 from hsr_handover.handover.look_round import LOOK_ROUND_S, look_round_pan
-from hsr_handover.handover.perceived_planner import PerceivedPlanner
+from hsr_handover.handover.perceived_planner import PerceivedPlanner, remember
 from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY, HEAD_JOINTS
 from hsr_handover.perception.coco18 import keypoint_index
+from hsr_handover.planning.perceived_scene import PerceivedScene
 
 TICK_S = 0.1  # s between the supervisor's decisions
 PAN, TILT = (COMMANDED_JOINTS.index(joint) for joint in HEAD_JOINTS)
@@ -37,6 +38,7 @@ class _Memory:
     cycle: HandoverCycle
     arm: HumanArm | None = None
     head: tuple[float, float] | None = None  # (pan, tilt) rad while the cycle looks at a point
+    scene: PerceivedScene | None = None  # as perceived, with what is out of view remembered
 
 
 class HandoverSupervisor(LeafSystem):
@@ -76,13 +78,16 @@ class HandoverSupervisor(LeafSystem):
         skeleton = self._skeleton.Eval(context)
         arm = receiving_arm([skeleton])
         memory.arm = arm if arm is not None else memory.arm
-        self._planner.perceive(self._scene.Eval(context), memory.arm)
-        percepts = self._percepts(context, skeleton, memory.arm)
+        memory.scene = remember(memory.scene, self._scene.Eval(context))
+        self._planner.perceive(memory.scene, memory.arm)
+        percepts = self._percepts(context, skeleton, arm, memory.cycle)
         memory.cycle.step(percepts)
         point = memory.cycle.gaze()
         memory.head = None if point is None else look_at(self._robot, percepts.q, point)
 
-    def _percepts(self, context: Context, skeleton, arm: HumanArm | None) -> Percepts:
+    def _percepts(
+        self, context: Context, skeleton, arm: HumanArm | None, cycle: HandoverCycle
+    ) -> Percepts:
         measured = self._state.Eval(context)[: len(COMMANDED_JOINTS)]
         opening = float(self._opening.Eval(context)[0])
         self._robot.set_positions(dict(zip(COMMANDED_JOINTS, measured, strict=True))
@@ -94,8 +99,15 @@ class HandoverSupervisor(LeafSystem):
             if detection.label == target and np.all(np.isfinite(detection.center)):
                 seen = np.asarray(detection.center, dtype=float)
         person = None if arm is None else arm.shoulder
-        return Percepts(context.get_time(), q, opening, target, seen, _wrist(skeleton),
-                        self._planner.palm(q), person)  # fmt: skip
+        palm = self._planner.palm(q)
+        commanded, _, _ = cycle.command(context.get_time())
+        pull = (
+            0.0
+            if commanded is None
+            else float(np.linalg.norm(palm - self._planner.palm(commanded)))
+        )
+        return Percepts(context.get_time(), q, opening, target, seen, _wrist(skeleton), palm,
+                        person, float(pull))  # fmt: skip
 
     def _calc_state(self, context: Context, output: BasicVector) -> None:
         time = context.get_time()

@@ -1,38 +1,91 @@
-"""HumanActor: the scripted person as a Drake system."""
+"""HumanActor: the scripted person as a Drake system, who may also take what the robot offers."""
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
 
 import numpy as np
-from pydrake.systems.framework import BasicVector, Context, LeafSystem
+from pydrake.common.value import AbstractValue
+from pydrake.math import RigidTransform
+from pydrake.systems.framework import BasicVector, Context, LeafSystem, State
 
 from hsr_handover.human.behavior import PostureTimeline
 from hsr_handover.human.body import PERSON_JOINTS
+from hsr_handover.human.receiving import Receiver
+
+RECEIVING_PERIOD = 0.05  # s between the person's looks at the world while waiting to take
+
+
+@dataclasses.dataclass(frozen=True)
+class WorldBodies:
+    """Where the receiving person looks in the plant's body poses: its hand (the hand's middle
+    `hand_middle` m below the hand body's origin, the wrist), the objects by name, and the
+    person frame's pose `X_WP`."""
+
+    hand: int
+    hand_middle: float
+    objects: dict[str, int]
+    X_WP: RigidTransform
+
+
+@dataclasses.dataclass
+class _Acting:
+    timeline: PostureTimeline
+    receiver: Receiver | None
 
 
 class HumanActor(LeafSystem):
     """Turns the person's behaviour timeline into desired joint states for the plant's PD.
 
     Output `person_desired_state`: [q; v] of the person's actuated joints, ordered as
-    `joint_order` (the plant's actuator order for the person). A function of time only, so the
-    system has no state and no inputs.
+    `joint_order` (the plant's actuator order for the person). With a `receiver` (and the
+    `world` bodies it watches), input `body_poses` (the plant's) lets the person react: the
+    receiver's postures interrupt the script, and output `grip` names the object the hand
+    holds ("" for none).
     """
 
-    def __init__(self, timeline: PostureTimeline, joint_order: Sequence[str]):
+    def __init__(
+        self,
+        timeline: PostureTimeline,
+        joint_order: Sequence[str],
+        receiver: Receiver | None = None,
+        world: WorldBodies | None = None,
+    ):
         super().__init__()
         unknown = [name for name in joint_order if name not in PERSON_JOINTS]
         if unknown:
             raise ValueError(f"joint_order: expected names from PERSON_JOINTS, got {unknown}")
-        self._timeline = timeline
+        if (receiver is None) != (world is None):
+            raise ValueError("receiver and world: expected both or neither")
         self._order = np.array([PERSON_JOINTS.index(name) for name in joint_order])
+        self._world = world
+        self._acting = self.DeclareAbstractState(AbstractValue.Make(_Acting(timeline, receiver)))
         self.DeclareVectorOutputPort(
-            "person_desired_state",
-            2 * len(self._order),
-            self._calc_desired_state,
-            prerequisites_of_calc={self.time_ticket()},
+            "person_desired_state", 2 * len(self._order), self._calc_desired_state
         )
+        self.DeclareAbstractOutputPort("grip", lambda: AbstractValue.Make(""), self._calc_grip)
+        if receiver is not None:
+            self._poses = self.DeclareAbstractInputPort(
+                "body_poses", AbstractValue.Make([RigidTransform()])
+            )
+            self.DeclarePeriodicUnrestrictedUpdateEvent(RECEIVING_PERIOD, 0.0, self._react)
+
+    def _react(self, context: Context, state: State) -> None:
+        acting: _Acting = state.get_mutable_abstract_state(self._acting).get_value()
+        world, poses = self._world, self._poses.Eval(context)
+        X_PW = world.X_WP.inverse()
+        objects = {name: X_PW @ poses[index].translation()
+                   for name, index in world.objects.items()}  # fmt: skip
+        hand = X_PW @ (poses[world.hand] @ np.array([0.0, 0.0, -world.hand_middle]))
+        for start, posture in acting.receiver.update(context.get_time(), objects, hand):
+            acting.timeline = acting.timeline.interrupted(start, posture)
 
     def _calc_desired_state(self, context: Context, output: BasicVector) -> None:
-        q, v = self._timeline.evaluate(context.get_time())
+        timeline = context.get_abstract_state(self._acting).get_value().timeline
+        q, v = timeline.evaluate(context.get_time())
         output.SetFromVector(np.concatenate([q[self._order], v[self._order]]))
+
+    def _calc_grip(self, context: Context, output: AbstractValue) -> None:
+        receiver = context.get_abstract_state(self._acting).get_value().receiver
+        output.set_value("" if receiver is None else receiver.grip)

@@ -11,6 +11,8 @@ import pytest
 from hsr_handover.handover.cycle import (
     CLOSED,
     HOLD_S,
+    LOOK_S,
+    LOST_S,
     OPEN,
     SETTLE_S,
     WAIT_S,
@@ -74,6 +76,7 @@ class World:
         self.opening, self.target, self.seen = 0.1, None, OBJECT.copy()
         self.hand = None
         self.palm = np.array([1.2, 0.2, 0.95])
+        self.person, self.pull = np.array([1.7, 0.2, 1.2]), 0.0
 
     def tick(self, seconds: float = TICK):
         end = self.time + seconds
@@ -82,7 +85,7 @@ class World:
             q, _, _ = self.cycle.command(self.time)
             self.q = self.q if q is None else q
             percepts = Percepts(self.time, self.q, self.opening, self.target, self.seen,
-                                self.hand, self.palm, np.array([1.7, 0.2, 1.2]))  # fmt: skip
+                                self.hand, self.palm, self.person, self.pull)  # fmt: skip
             record = self.cycle.step(percepts)
         return record
 
@@ -141,6 +144,21 @@ def test_the_gripper_closes_only_once_the_approach_is_done():
     assert world.cycle.command(world.time)[2] == CLOSED
 
 
+def test_lifted_it_looks_at_the_person_before_planning_the_carry():
+    world = World()
+    world.target = "yellow"
+    world.until(Phase.GRASP)
+    world.opening = 0.06
+    world.until(Phase.LIFT)
+    world.seen = OBJECT + [0, 0, 0.08]
+    world.tick(1.05)  # the lift's 1 s motion done
+    assert world.cycle.cycle.phase is Phase.LIFT
+    np.testing.assert_allclose(world.cycle.gaze(), [1.7, 0.2, 1.2])  # the person's shoulder
+    assert [ask[0] for ask in world.planner.asked] == ["grasp"]
+    record = world.until(Phase.CARRY)
+    assert record.phase_times["carry"] - record.phase_times["lift"] >= 1.0 + LOOK_S
+
+
 def test_an_unreachable_target_fails_with_the_planners_reason():
     world = World(Planner(grasp_ok=False))
     world.target = "yellow"
@@ -194,8 +212,23 @@ def test_a_person_out_of_sight_while_presenting_withdrew():
     world = World()
     _to_present(world)
     world.hand = None
+    world.tick(LOST_S + 0.5)
+    assert world.cycle.cycle.phase is Phase.PRESENT  # the hand hidden, the person in view
+    world.person = None
     record = world.until(Phase.FAILED)
     assert record.failure is Failure.PERSON_WITHDREW
+
+
+def test_a_tug_at_the_object_makes_the_robot_let_go_though_the_hand_is_hidden():
+    world = World()
+    _to_present(world)
+    world.pull = 0.005  # the arm's own sag
+    world.tick(1.0)
+    assert world.cycle.cycle.phase is Phase.PRESENT
+    world.pull = 0.02
+    world.tick()
+    assert world.cycle.cycle.phase is Phase.RELEASE
+    assert world.cycle.command(world.time)[2] == OPEN
 
 
 def test_a_hand_held_out_elsewhere_is_followed():

@@ -1,0 +1,103 @@
+"""HandGrip: the person's hand closing on an object, as a stiff spring and damper between the
+hand and the object (a soft weld), switched on by the actor's `grip` output.
+
+Drake 1.51's constraints are switched in the plant's context, which no system in the diagram
+may change, and a constraint built active would hold every object from the first step in any
+context not set up by hand; a force through the plant's `applied_spatial_force` port is
+dataflow like the rest of the world.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+from pydrake.common.value import AbstractValue
+from pydrake.math import RigidTransform
+from pydrake.multibody.math import SpatialForce, SpatialVelocity
+from pydrake.multibody.plant import ExternallyAppliedSpatialForce
+from pydrake.multibody.tree import BodyIndex
+from pydrake.systems.framework import Context, LeafSystem, State
+
+GRIP_PERIOD = 0.01  # s between checks of the actor's grip
+STIFFNESS = 1000.0  # N/m: 1.2 kg (the heaviest object) sags 1.2 cm
+DAMPING = 30.0  # N s/m
+TURN_STIFFNESS = 5.0  # N m/rad
+TURN_DAMPING = 0.1  # N m s/rad
+
+
+@dataclasses.dataclass(frozen=True)
+class _Hold:
+    name: str = ""
+    X_HO: RigidTransform | None = None  # the object in the hand as the hand closed
+
+
+class HandGrip(LeafSystem):
+    """Inputs `grip` (the object's name or ""), `body_poses` and `body_spatial_velocities`
+    (the plant's); output `spatial_forces` for the plant's applied_spatial_force input. `hand`
+    and `objects` are body indices."""
+
+    def __init__(self, hand: int, objects: dict[str, int]):
+        super().__init__()
+        self._hand, self._objects = hand, dict(objects)
+        self._grip = self.DeclareAbstractInputPort("grip", AbstractValue.Make(""))
+        self._poses = self.DeclareAbstractInputPort(
+            "body_poses", AbstractValue.Make([RigidTransform()])
+        )
+        self._velocities = self.DeclareAbstractInputPort(
+            "body_spatial_velocities", AbstractValue.Make([SpatialVelocity()])
+        )
+        self._hold = self.DeclareAbstractState(AbstractValue.Make(_Hold()))
+        self.DeclareAbstractOutputPort(
+            "spatial_forces",
+            lambda: AbstractValue.Make([ExternallyAppliedSpatialForce()]),
+            self._calc_forces,
+        )
+        self.DeclarePeriodicUnrestrictedUpdateEvent(GRIP_PERIOD, 0.0, self._latch)
+
+    def _latch(self, context: Context, state: State) -> None:
+        name = self._grip.Eval(context)
+        hold = context.get_abstract_state(self._hold).get_value()
+        if name == hold.name:
+            return
+        if name not in self._objects:
+            state.get_mutable_abstract_state(self._hold).set_value(_Hold())
+            return
+        poses = self._poses.Eval(context)
+        X_HO = poses[self._hand].inverse() @ poses[self._objects[name]]
+        state.get_mutable_abstract_state(self._hold).set_value(_Hold(name, X_HO))
+
+    def _calc_forces(self, context: Context, output: AbstractValue) -> None:
+        hold = context.get_abstract_state(self._hold).get_value()
+        if not hold.name:
+            output.set_value([])
+            return
+        obj = self._objects[hold.name]
+        poses, velocities = self._poses.Eval(context), self._velocities.Eval(context)
+        X_WH, X_WO = poses[self._hand], poses[obj]
+        X_WT = X_WH @ hold.X_HO  # where the hand holds it
+        V_H, V_O = velocities[self._hand], velocities[obj]
+        p_HT = X_WT.translation() - X_WH.translation()
+        v_T = V_H.translational() + np.cross(V_H.rotational(), p_HT)
+        force = STIFFNESS * (X_WT.translation() - X_WO.translation()) + DAMPING * (
+            v_T - V_O.translational()
+        )
+        turn = (X_WT.rotation() @ X_WO.rotation().inverse()).ToAngleAxis()
+        torque = TURN_STIFFNESS * turn.angle() * turn.axis() + TURN_DAMPING * (
+            V_H.rotational() - V_O.rotational()
+        )
+        on_object = _applied(obj, SpatialForce(torque, force))
+        # Equal and opposite on the hand, at the object's origin.
+        p_HO = X_WH.rotation().inverse() @ (X_WO.translation() - X_WH.translation())
+        on_hand = _applied(self._hand, SpatialForce(-torque, -force), p_HO)
+        output.set_value([on_object, on_hand])
+
+
+def _applied(
+    body: int, F_W: SpatialForce, p_B: np.ndarray | None = None
+) -> ExternallyAppliedSpatialForce:
+    applied = ExternallyAppliedSpatialForce()
+    applied.body_index = BodyIndex(body)
+    applied.p_BoBq_B = np.zeros(3) if p_B is None else p_B
+    applied.F_Bq_W = F_W
+    return applied
