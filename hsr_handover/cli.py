@@ -139,7 +139,25 @@ def _run(args: argparse.Namespace) -> int:
     print(f"wall time:   {report.wall_time:.2f} s")
     print(f"real-time factor: {report.real_time_factor:.2f}")
     print(f"replay:      {report.replay}")
+    if report.cycle is not None:
+        _print_cycle(report.cycle, report.person_holds)
     return 0
+
+
+def _print_cycle(cycle, person_holds: str) -> None:
+    """What the robot did: the outcome, the target and when each phase began."""
+    outcome = cycle.phase.value
+    if cycle.failure is not None:
+        outcome = f"failed, {cycle.failure.value}: {cycle.reason}"
+    target = cycle.target or "none recognised"
+    print(f"handover:    {outcome}")
+    if cycle.target:
+        target += f" (recognised at {cycle.recognised_time:.1f} s)"
+    print(f"target:      {target}")
+    phases = ", ".join(f"{name} {at:.1f} s" for name, at in cycle.phase_times.items())
+    print(f"phases:      {phases or 'watching only'}")
+    print(f"planning:    {cycle.planning_s:.2f} s of wall time")
+    print(f"person holds: {person_holds or 'nothing'}")
 
 
 def _validate(args: argparse.Namespace) -> int:

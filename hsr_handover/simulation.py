@@ -22,6 +22,7 @@ from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import Context, Diagram, DiagramBuilder, EventStatus
 
 from hsr_handover import interface
+from hsr_handover.handover.cycle import Cycle
 from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY
 from hsr_handover.replay import frame_view, make_local_meshcat, start_recording, write_replay
 from hsr_handover.robot import Robot, build_robot
@@ -30,6 +31,8 @@ from hsr_handover.station import Station, build_station, check_initial_clearance
 from hsr_handover.systems.graph_visualizer import add_graph_visualizer
 
 ProgressCallback = Callable[[float, float], None]
+CYCLE = "cycle"  # the robot's output of its handover cycle
+AFTER_CYCLE_S = 2.0  # s a run goes on once the handover cycle has ended
 
 
 @dataclasses.dataclass
@@ -103,6 +106,8 @@ class RunReport:
     replay: Path | None
     simulation: Simulation
     context: Context
+    cycle: Cycle | None = None  # the robot's handover cycle as it ended (handover runs)
+    person_holds: str = ""  # what the person's hand holds at the end (truth, for the report)
 
     @property
     def real_time_factor(self) -> float:
@@ -166,6 +171,30 @@ def run_scenario(
         simulator.AdvanceTo(now)
         if progress is not None:
             progress(now, duration)
+        if _cycle_ended(simulation, simulator.get_context()):
+            break
     wall = time.perf_counter() - start
     written = write_replay(meshcat, replay) if meshcat is not None else None
-    return RunReport(now, wall, written, simulation, simulator.get_context())
+    root = simulator.get_context()
+    return RunReport(now, wall, written, simulation, root, _cycle(simulation, root),
+                     _person_holds(simulation, root))  # fmt: skip
+
+
+def _cycle(simulation: Simulation, root: Context) -> Cycle | None:
+    robot = simulation.robot.diagram
+    if not robot.HasOutputPort(CYCLE):
+        return None
+    return robot.GetOutputPort(CYCLE).Eval(simulation.robot_context(root))
+
+
+def _cycle_ended(simulation: Simulation, root: Context) -> bool:
+    """Whether the handover cycle ended more than AFTER_CYCLE_S ago (nothing more happens)."""
+    cycle = _cycle(simulation, root)
+    if cycle is None or not cycle.over:
+        return False
+    return root.get_time() >= cycle.phase_times[cycle.phase.value] + AFTER_CYCLE_S
+
+
+def _person_holds(simulation: Simulation, root: Context) -> str:
+    actor = simulation.station.diagram.GetSubsystemByName("human_actor")
+    return actor.GetOutputPort("grip").Eval(actor.GetMyContextFromRoot(root))

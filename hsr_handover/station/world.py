@@ -5,10 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 from pydrake.geometry import (
+    Box,
     CollisionFilterDeclaration,
     GeometryId,
     GeometrySet,
-    HalfSpace,
     LightParameter,
     RenderEngineVtkParams,
 )
@@ -31,6 +31,7 @@ from hsr_handover.scene.person_model import person_sdf
 from hsr_handover.scene.table_model import table_sdf
 
 FLOOR_FRICTION = CoulombFriction(0.6, 0.5)
+FLOOR_SIZE = (40.0, 40.0, 0.1)  # m: the room's floor, its top at z = 0
 PERSON_STREAM = 0x9E4
 """Keys the person's random draws apart from the other users of the run's seed."""
 
@@ -85,9 +86,12 @@ def person_actions(scenario: Scenario, body: BodyDimensions) -> list[Action]:
 def add_floor(plant: MultibodyPlant) -> GeometryId:
     """The floor, for what falls (collision only: the camera's view is unchanged, and the
     robot and the person are kept off it by `floor_filter`)."""
+    # A slab, not a HalfSpace: Drake warns on every build that rigid half spaces do not
+    # support deformable contact.
     return plant.RegisterCollisionGeometry(
-        plant.world_body(), RigidTransform(), HalfSpace(), "floor", FLOOR_FRICTION
-    )
+        plant.world_body(), RigidTransform([0, 0, -FLOOR_SIZE[2] / 2]), Box(*FLOOR_SIZE),
+        "floor", FLOOR_FRICTION,
+    )  # fmt: skip
 
 
 def floor_filter(plant: MultibodyPlant, floor: GeometryId, instances) -> CollisionFilterDeclaration:

@@ -97,13 +97,22 @@ class World:
         return self.cycle.cycle
 
 
-def _to_present(world: World) -> None:
+def _closed_on(opening: float) -> World:
+    """A world whose robot recognised the request and closed its gripper to `opening`."""
+    world = World()
     world.target = "yellow"
     world.until(Phase.GRASP)
-    world.opening = 0.06  # closed on the object
+    world.opening = opening
+    return world
+
+
+def _presenting() -> World:
+    """A world whose robot holds the object out, lifted and carried."""
+    world = _closed_on(0.06)
     world.until(Phase.LIFT)
     world.seen = OBJECT + [0, 0, 0.08]  # it rises with the hand
     world.until(Phase.PRESENT)
+    return world
 
 
 def test_it_watches_until_a_target_is_recognised():
@@ -114,8 +123,7 @@ def test_it_watches_until_a_target_is_recognised():
 
 
 def test_a_whole_handover_runs_through_every_phase_in_order():
-    world = World()
-    _to_present(world)
+    world = _presenting()
     assert world.cycle.command(world.time)[2] == CLOSED
     world.hand = world.palm + [0.05, 0.0, 0.0]  # the person's hand at the object
     world.until(Phase.RELEASE)
@@ -145,10 +153,7 @@ def test_the_gripper_closes_only_once_the_approach_is_done():
 
 
 def test_lifted_it_looks_at_the_person_before_planning_the_carry():
-    world = World()
-    world.target = "yellow"
-    world.until(Phase.GRASP)
-    world.opening = 0.06
+    world = _closed_on(0.06)
     world.until(Phase.LIFT)
     world.seen = OBJECT + [0, 0, 0.08]
     world.tick(1.05)  # the lift's 1 s motion done
@@ -167,29 +172,20 @@ def test_an_unreachable_target_fails_with_the_planners_reason():
 
 
 def test_a_gripper_closed_on_nothing_is_a_missed_grasp():
-    world = World()
-    world.target = "yellow"
-    world.until(Phase.GRASP)
-    world.opening = 0.0
+    world = _closed_on(0.0)
     record = world.until(Phase.FAILED)
     assert record.failure is Failure.GRASP_MISSED
     assert record.phase_times["failed"] - record.phase_times["grasp"] >= SETTLE_S
 
 
 def test_an_object_that_stays_on_the_table_is_a_missed_grasp():
-    world = World()
-    world.target = "yellow"
-    world.until(Phase.GRASP)
-    world.opening = 0.06
+    world = _closed_on(0.06)
     record = world.until(Phase.FAILED)  # the camera still sees it where it stood
     assert record.failure is Failure.GRASP_MISSED and "rose 0.0 cm" in record.reason
 
 
 def test_an_object_that_slips_out_during_the_carry_is_dropped():
-    world = World()
-    world.target = "yellow"
-    world.until(Phase.GRASP)
-    world.opening = 0.06
+    world = _closed_on(0.06)
     world.until(Phase.LIFT)
     world.seen = OBJECT + [0, 0, 0.08]
     world.until(Phase.CARRY)
@@ -199,8 +195,7 @@ def test_an_object_that_slips_out_during_the_carry_is_dropped():
 
 
 def test_no_hand_in_time_fails_by_timeout_and_the_robot_keeps_the_object():
-    world = World()
-    _to_present(world)
+    world = _presenting()
     world.hand = world.palm + [0.5, 0.0, 0.0]  # in view, never near
     record = world.until(Phase.FAILED, limit=WAIT_S + 5)
     assert record.failure is Failure.TIMEOUT and "holding it" in record.reason
@@ -209,8 +204,7 @@ def test_no_hand_in_time_fails_by_timeout_and_the_robot_keeps_the_object():
 
 
 def test_a_person_out_of_sight_while_presenting_withdrew():
-    world = World()
-    _to_present(world)
+    world = _presenting()
     world.hand = None
     world.tick(LOST_S + 0.5)
     assert world.cycle.cycle.phase is Phase.PRESENT  # the hand hidden, the person in view
@@ -220,8 +214,7 @@ def test_a_person_out_of_sight_while_presenting_withdrew():
 
 
 def test_a_tug_at_the_object_makes_the_robot_let_go_though_the_hand_is_hidden():
-    world = World()
-    _to_present(world)
+    world = _presenting()
     world.pull = 0.005  # the arm's own sag
     world.tick(1.0)
     assert world.cycle.cycle.phase is Phase.PRESENT
@@ -232,8 +225,7 @@ def test_a_tug_at_the_object_makes_the_robot_let_go_though_the_hand_is_hidden():
 
 
 def test_a_hand_held_out_elsewhere_is_followed():
-    world = World()
-    _to_present(world)
+    world = _presenting()
     world.hand = world.palm + [0.0, 0.3, 0.0]
     world.tick()
     assert world.planner.asked[-1][0] == "follow"
