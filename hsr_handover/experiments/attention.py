@@ -310,6 +310,7 @@ def run_attention(
 ) -> tuple[AttentionResult, RunReport]:
     """Simulate the scenario with perception on and measure its attention phases."""
     scenario.perception.enabled = True
+    scenario.handover.enabled = False  # the robot watches; it does not act
     recorders: list[AttentionRecorder] = []
 
     def make_recorder(simulation: Simulation) -> AttentionRecorder:

@@ -86,6 +86,7 @@ def _make_trial(base: Scenario, index: int, kind: str, target: str, rng) -> Inte
     person.behavior = _script(scenario, kind, target or look_target, arm, onset, lead, duration)
     scenario.simulation.duration = onset + lead + duration + SETTLE_S
     scenario.perception.enabled = True
+    scenario.handover.enabled = False  # the robot watches; it does not act
     scenario.perception.attention = []
     scenario.camera.render_label = False  # ground truth nobody scores here
     return IntentTrial(index, kind, target, arm, onset + lead, scenario)

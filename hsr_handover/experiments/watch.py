@@ -48,12 +48,14 @@ class Watched:
 def watch(
     scenario: Scenario, seconds: float, look_around: bool = False, replay: bool = False
 ) -> Watched:
-    """Simulate `scenario` for `seconds` with perception on, whatever the file says. With
-    `look_around`, the head first pans to each of LOOK_AROUND_PANS for LOOK_DWELL_S (so the
-    table's ends come into view), then back, before the remaining time. With `replay`, the
-    run is recorded in a Meshcat (`Watched.meshcat`; `replay.write_replay` writes it)."""
+    """Simulate `scenario` for `seconds` with perception on and the handover off, whatever
+    the file says. With `look_around`, the head first pans to each of LOOK_AROUND_PANS for
+    LOOK_DWELL_S (so the table's ends come into view), then back, before the remaining time.
+    With `replay`, the run is recorded in a Meshcat (`Watched.meshcat`; `replay.write_replay`
+    writes it)."""
     perception = dataclasses.replace(scenario.perception, enabled=True)
-    scenario = dataclasses.replace(scenario, perception=perception)
+    handover = dataclasses.replace(scenario.handover, enabled=False)  # it watches, no more
+    scenario = dataclasses.replace(scenario, perception=perception, handover=handover)
     simulation, meshcat = prepare_simulation(scenario, with_meshcat=replay)
     simulator = Simulator(simulation.diagram)
     if meshcat is not None:
