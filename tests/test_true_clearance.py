@@ -39,13 +39,18 @@ def test_the_true_table_is_where_the_scenario_puts_it(truth):
     assert nearest == "table" and inside < 0  # penetration: the shortest way out
 
 
-def test_an_ignored_object_is_left_out(truth):
-    clearance, names = truth
+def _hand_at_green_cup(names: list[str], lift: float) -> np.ndarray:
+    """The hand at the green cup (0.80, 0), its arm lift `lift` (m)."""
     q = np.zeros(len(names))
-    # The hand among the cups: the green cup at (0.80, 0) is nearest unless ignored.
-    for joint, value in {"base_x_joint": 0.22, "base_y_joint": -0.078, "arm_lift_joint": 0.45,
+    for joint, value in {"base_x_joint": 0.22, "base_y_joint": -0.078, "arm_lift_joint": lift,
                          "arm_flex_joint": -1.57, "wrist_flex_joint": -0.1}.items():  # fmt: skip
         q[names.index(joint)] = value
+    return q
+
+
+def test_an_ignored_object_is_left_out(truth):
+    clearance, names = truth
+    q = _hand_at_green_cup(names, 0.45)  # nearest the green cup unless it is ignored
     touching, nearest = clearance(q)
     ignored, other = clearance(q, ignore=("green_cup",))
     assert nearest == "green_cup" and other != "green_cup" and ignored > touching
@@ -53,11 +58,8 @@ def test_an_ignored_object_is_left_out(truth):
 
 def test_a_held_object_rides_in_the_hand_and_is_scored(truth):
     clearance, names = truth
-    q_grasp = np.zeros(len(names))
     # The hand closed round the green cup 3 cm above its foot, which stands on the table.
-    for joint, value in {"base_x_joint": 0.22, "base_y_joint": -0.078, "arm_lift_joint": 0.48,
-                         "arm_flex_joint": -1.57, "wrist_flex_joint": -0.1}.items():  # fmt: skip
-        q_grasp[names.index(joint)] = value
+    q_grasp = _hand_at_green_cup(names, 0.48)
     before = clearance(q_grasp)
     lowered = q_grasp.copy()
     lowered[names.index("arm_lift_joint")] -= 0.02

@@ -58,6 +58,7 @@ PULL = 0.01
 """m the palm may be pulled off its commanded point, still, before the robot lets go: the
 person has hold of the object and draws it in (the arm's own sag is under 3 mm)."""
 RETARGET = 0.10  # m the hand may move from where the object is held before the robot follows
+FOLLOW_EVERY_S = 1.0  # s between tries to follow the hand (a hand out of reach fails each)
 WAIT_S = 12.0  # s the robot presents the object before it gives up (HandoverSim's 13 s limit)
 LOST_S = 2.0  # s without seeing the person while presenting: the person withdrew
 
@@ -162,7 +163,8 @@ class HandoverCycle:
         self._hold: tuple[np.ndarray, np.ndarray] | None = None  # (q, 0) to stand still at
         self._gripper = OPEN
         self._since = 0.0  # when the current wait began
-        self._seen_at = 0.0  # when the person's hand was last seen
+        self._seen_at = 0.0  # when the person was last seen
+        self._followed_at = -math.inf  # when it last tried to follow the hand
         self._near_since: float | None = None
         self._object_start: np.ndarray | None = None
         self._after_retreat: tuple[Phase, Failure | None, str] = (Phase.DONE, None, "")
@@ -281,7 +283,8 @@ class HandoverCycle:
         distance = float(np.linalg.norm(p.hand - p.palm)) if p.palm is not None else math.inf
         if distance > REACH:
             self._near_since = None
-            if distance > RETARGET and not self._moving(p.time):
+            since = p.time - self._followed_at
+            if distance > RETARGET and since > FOLLOW_EVERY_S and not self._moving(p.time):
                 self._follow(p)
             return
         self._near_since = p.time if self._near_since is None else self._near_since
@@ -296,6 +299,7 @@ class HandoverCycle:
 
     def _follow(self, p: Percepts) -> None:
         """Re-target state to state (ruckig) to hold the object out at the hand."""
+        self._followed_at = p.time
         planned = self._planner.follow(p.q, np.zeros_like(p.q), p.hand, self._held)
         self.cycle.planning_s += planned.seconds
         if planned.ok:

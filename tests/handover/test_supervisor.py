@@ -1,0 +1,61 @@
+"""HandoverSupervisor on its own ports and context: the look round, the ready posture, and a
+request it cannot reach ending in a clear failure (never an exception)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from pydrake.systems.analysis import Simulator
+
+from hsr_handover.effectivity.arm_map import load_or_build
+from hsr_handover.handover.cycle import Failure, Phase
+from hsr_handover.handover.look_round import LOOK_AROUND_PANS, LOOK_DWELL_S, LOOK_ROUND_S
+from hsr_handover.hsr import COMMANDED_JOINTS
+from hsr_handover.intent import IntentState
+from hsr_handover.perception.object_detection import DetectionResult
+from hsr_handover.perception.skeleton import Skeleton
+from hsr_handover.planning.perceived_scene import PerceivedScene
+from hsr_handover.systems.handover_supervisor import HandoverSupervisor
+
+PAN = COMMANDED_JOINTS.index("head_pan_joint")
+OPENING = 0.02
+
+
+@pytest.fixture
+def supervisor():
+    ready = np.zeros(2 * len(COMMANDED_JOINTS))
+    ready[COMMANDED_JOINTS.index("wrist_flex_joint")] = -1.57
+    system = HandoverSupervisor(load_or_build()[0], ready, OPENING)
+    context = system.CreateDefaultContext()
+    system.GetInputPort("hsr_state_measured").FixValue(context, ready)
+    system.GetInputPort("gripper_opening_measured").FixValue(context, [OPENING])
+    system.GetInputPort("intent").FixValue(context, IntentState())
+    system.GetInputPort("perceived_scene").FixValue(context, PerceivedScene(None))
+    system.GetInputPort("skeleton").FixValue(context, Skeleton.missing("no person"))
+    system.GetInputPort("detections").FixValue(context, DetectionResult((), "no detections"))
+    return system, context, ready
+
+
+def _command(system, context) -> np.ndarray:
+    return system.GetOutputPort("hsr_desired_state").Eval(context)
+
+
+def test_it_looks_round_the_table_then_holds_the_ready_posture(supervisor):
+    system, context, ready = supervisor
+    simulator = Simulator(system, context)
+    for stop, pan in enumerate(LOOK_AROUND_PANS):
+        simulator.AdvanceTo((stop + 0.5) * LOOK_DWELL_S)
+        assert _command(system, context)[PAN] == pan
+    simulator.AdvanceTo(LOOK_ROUND_S + 1.0)
+    np.testing.assert_allclose(_command(system, context), ready)
+    assert system.GetOutputPort("gripper_desired_opening").Eval(context)[0] == OPENING
+    assert system.GetOutputPort("cycle").Eval(context).phase is Phase.WATCH
+
+
+def test_a_request_for_an_object_it_never_perceived_fails_as_unreachable(supervisor):
+    system, context, ready = supervisor
+    system.GetInputPort("intent").FixValue(context, IntentState(target="purple"))
+    Simulator(system, context).AdvanceTo(LOOK_ROUND_S + 1.0)
+    cycle = system.GetOutputPort("cycle").Eval(context)
+    assert cycle.phase is Phase.FAILED and cycle.failure is Failure.UNREACHABLE
+    assert cycle.target == "purple" and "purple" in cycle.reason
