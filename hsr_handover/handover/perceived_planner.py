@@ -66,14 +66,16 @@ def _motions(plan: Plan, started: float) -> PlannedMotions:
 
 def remember(last: PerceivedScene | None, scene: PerceivedScene) -> PerceivedScene:
     """The `scene` now, with what the camera has turned away from as it was `last` seen: the
-    table, and the person unless seen now as whole as then (people do not vanish, or lose
-    limbs, when the robot looks at its hand)."""
+    table, objects out of view, and the person unless seen now as whole as then (things do
+    not vanish, or people lose limbs, when the robot looks at its hand)."""
     if last is None:
         return scene
     whole = len(scene.person) >= len(last.person)
+    seen = {shape.label for shape in scene.objects}
     return dataclasses.replace(
         scene,
         table=scene.table if scene.table is not None else last.table,
+        objects=(*scene.objects, *(s for s in last.objects if s.label not in seen)),
         person=scene.person if whole else last.person,
     )
 
