@@ -288,6 +288,7 @@ def rendered_scene(request):
     name, base_x = request.param
     scenario = load_scenario(SCENARIOS / name)
     scenario.robot.base_pose = [base_x, 0.0, 0.0]
+    scenario.handover.enabled = False  # the head stays on the table (no look round)
     builder = DiagramBuilder()
     station, _ = add_station_and_robot(builder, scenario)
     detector = builder.AddSystem(ObjectDetector(scenario.camera.pinhole()))

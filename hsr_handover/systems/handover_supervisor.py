@@ -72,13 +72,12 @@ class HandoverSupervisor(LeafSystem):
 
     def _tick(self, context: Context, state: State) -> None:
         memory: _Memory = state.get_mutable_abstract_state(self._memory).get_value()
-        time = context.get_time()
-        if time < LOOK_ROUND_S:
-            return
         skeleton = self._skeleton.Eval(context)
         arm = receiving_arm([skeleton])
         memory.arm = arm if arm is not None else memory.arm
         memory.scene = remember(memory.scene, self._scene.Eval(context))
+        if context.get_time() < LOOK_ROUND_S:  # it looks round before it acts
+            return
         self._planner.perceive(memory.scene, memory.arm)
         percepts = self._percepts(context, skeleton, arm, memory.cycle)
         memory.cycle.step(percepts)
