@@ -190,6 +190,11 @@ class HandoverCycle:
             return self._hold[0], self._hold[1], self._gripper
         return None, None, self._gripper
 
+    @property
+    def gripper(self) -> float:
+        """The gripper opening (m) to command now."""
+        return self._gripper
+
     def gaze(self) -> np.ndarray | None:
         """Where to look (m, world): the object until it is lifted, then the person; None
         while watching (the head is the watcher's)."""

@@ -18,6 +18,7 @@ from hsr_handover.planning.grasps import PAD_OFFSET
 from hsr_handover.planning.inverse_kinematics import PalmGoal, solve_palm_ik
 from hsr_handover.planning.perceived_scene import PerceivedScene
 from hsr_handover.planning.planner import (
+    DIP_ALLOWANCE,
     Held,
     Plan,
     plan_grasp,
@@ -151,7 +152,7 @@ class PerceivedPlanner:
             _, positions = motion.sample(FOLLOW_CHECK_S)
             clearance = min(scene.clearance_at(p, ignore) for p in positions)
         seconds = time.perf_counter() - started
-        if clearance < COLLISION_BOUND - 0.003:
+        if clearance < COLLISION_BOUND - DIP_ALLOWANCE:
             return PlannedMotions(False, f"the way to the hand comes {clearance:.3f} m near",
                                   seconds=seconds)  # fmt: skip
         return PlannedMotions(True, "ok", (("follow", RetargetedMotion(motion)),), seconds)

@@ -33,12 +33,12 @@ PAN, TILT = (COMMANDED_JOINTS.index(joint) for joint in HEAD_JOINTS)
 @dataclasses.dataclass
 class _Memory:
     """What the supervisor carries between ticks: the cycle, the person's arm as last seen
-    with both shoulders, and the command it holds while nothing moves."""
+    with both shoulders, the head's aim, and the scene with what is out of view remembered."""
 
     cycle: HandoverCycle
     arm: HumanArm | None = None
     head: tuple[float, float] | None = None  # (pan, tilt) rad while the cycle looks at a point
-    scene: PerceivedScene | None = None  # as perceived, with what is out of view remembered
+    scene: PerceivedScene | None = None
 
 
 class HandoverSupervisor(LeafSystem):
@@ -129,7 +129,7 @@ class HandoverSupervisor(LeafSystem):
         if cycle.cycle.phase is Phase.WATCH:
             output.SetFromVector([self._ready_opening])
             return
-        output.SetFromVector([cycle.command(context.get_time())[2]])
+        output.SetFromVector([cycle.gripper])
 
     def _calc_cycle(self, context: Context, output: AbstractValue) -> None:
         output.set_value(dataclasses.replace(self._memory_of(context).cycle.cycle))
