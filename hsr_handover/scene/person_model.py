@@ -16,13 +16,15 @@ from hsr_handover.human.body import BodyDimensions
 from hsr_handover.scene.sdf_shapes import (
     box_geometry,
     box_inertia,
-    capsule_geometry,
+    capsule_shape,
+    coarse_sphere,
     cylinder_inertia,
     fmt,
     inertial,
     model,
     shape,
-    sphere_geometry,
+    sphere_shape,
+    visual,
 )
 
 SKIN = (0.87, 0.70, 0.58, 1.0)
@@ -68,7 +70,7 @@ def _segment(name: str, start: np.ndarray, end: np.ndarray, radius: float, rgba)
     length = float(np.linalg.norm(axis))
     pitch = float(np.arccos(np.clip(axis[2] / length, -1, 1)))
     yaw = float(np.arctan2(axis[1], axis[0]))
-    return shape(name, capsule_geometry(radius, length), (*middle, 0, pitch, yaw), rgba)
+    return capsule_shape(name, radius, length, (*middle, 0, pitch, yaw), rgba)
 
 
 def _pelvis(body: BodyDimensions) -> str:
@@ -81,11 +83,8 @@ def _pelvis(body: BodyDimensions) -> str:
         SHIRT,
     )
     neck_length = body.neck_pivot_z - body.shoulder_z + 0.02
-    geometry += shape(
-        "neck",
-        capsule_geometry(0.05, neck_length),
-        (0, 0, body.shoulder_z + neck_length / 2, 0, 0, 0),
-        SKIN,
+    geometry += capsule_shape(
+        "neck", 0.05, neck_length, (0, 0, body.shoulder_z + neck_length / 2, 0, 0, 0), SKIN
     )
     frames = ""
     for side in ("right", "left"):
@@ -124,14 +123,10 @@ def _head(body: BodyDimensions) -> str:
     pivot = body.neck_pivot()
     face = body.face_points()
     r = body.head_radius
-    geometry = shape("skull", sphere_geometry(r), (*(body.head_center() - pivot), 0, 0, 0), SKIN)
-    geometry += shape("nose", sphere_geometry(0.18 * r), (*face["nose"], 0, 0, 0), SKIN)
+    geometry = sphere_shape("skull", r, (*(body.head_center() - pivot), 0, 0, 0), SKIN)
+    geometry += sphere_shape("nose", 0.18 * r, (*face["nose"], 0, 0, 0), SKIN)
     for eye in ("r_eye", "l_eye"):
-        geometry += (
-            f'<visual name="{eye}_visual"><pose>{fmt((*face[eye], 0, 0, 0))}</pose>'
-            f"{sphere_geometry(0.12 * r)}<material><diffuse>{fmt(EYE)}</diffuse></material>"
-            f"</visual>"
-        )
+        geometry += visual(eye, coarse_sphere(0.12 * r), (*face[eye], 0, 0, 0), EYE)
     frames = "".join(_frame(name, "head", pivot + point, pivot) for name, point in face.items())
     neck = _link("neck_link", pivot, 0.1, (1e-4, 1e-4, 1e-4))
     head = _link("head", pivot, 4.5, (0.02, 0.02, 0.02), geometry)
@@ -146,17 +141,11 @@ def _arm(body: BodyDimensions, side: str) -> str:
     elbow = shoulder - np.array([0, 0, body.upper_arm])
     wrist = elbow - np.array([0, 0, body.forearm])
     small = (1e-4, 1e-4, 1e-4)
-    upper_geometry = shape(
-        f"{p}upper_arm",
-        capsule_geometry(0.045, body.upper_arm - 0.09),
-        (0, 0, -body.upper_arm / 2, 0, 0, 0),
-        SHIRT,
+    upper_geometry = capsule_shape(
+        f"{p}upper_arm", 0.045, body.upper_arm - 0.09, (0, 0, -body.upper_arm / 2, 0, 0, 0), SHIRT
     )
-    fore_geometry = shape(
-        f"{p}forearm",
-        capsule_geometry(0.035, body.forearm - 0.07),
-        (0, 0, -body.forearm / 2, 0, 0, 0),
-        SKIN,
+    fore_geometry = capsule_shape(
+        f"{p}forearm", 0.035, body.forearm - 0.07, (0, 0, -body.forearm / 2, 0, 0, 0), SKIN
     )
     hand_size = (0.08, 0.03, body.hand)
     hand_geometry = shape(
