@@ -14,7 +14,10 @@ from pathlib import Path
 import pytest
 
 REPO = Path(__file__).resolve().parents[1]
-MODEL_FILES = ("hsr_handover/models/package.xml", "hsr_handover/models/hsrb/hsrb.sdf")
+MODEL_FILES = (
+    "hsr_handover/models/package.xml", "hsr_handover/models/hsrb/hsrb.sdf",
+    "hsr_handover/models/shapes/sphere.obj",
+)  # fmt: skip
 # Build inputs only: not the virtual environment, caches or an earlier in-tree build.
 NOT_SOURCES = shutil.ignore_patterns(
     ".git", ".venv", "build", "dist", "*.egg-info", "__pycache__", ".*_cache", ".hypothesis",
