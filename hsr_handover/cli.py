@@ -37,15 +37,28 @@ def _add_experiment_parsers(commands) -> None:
     intent = kinds.add_parser(
         "intent", help="which object the person points at and looks at (paper 4.2)"
     )
-    intent.add_argument("scenario", type=Path, help="scenario YAML with two or more objects")
-    intent.add_argument("--trials", type=int, default=60, help="requests (default 60)")
+    _add_trial_arguments(intent)
     intent.add_argument("--distractors", type=int, default=0, help="trials with no request")
-    intent.add_argument("--seed", type=int, default=0, help="seed of the whole experiment")
-    intent.add_argument("--workers", type=int, help="local worker processes (default: cores)")
-    intent.add_argument("--ray-address", help="run the trials on this existing Ray cluster")
-    intent.add_argument("--csv", type=Path, help="one row per trial (.csv)")
-    intent.add_argument("--json", type=Path, help="summary (.json)")
-    intent.add_argument("--plot", type=Path, help="figure beside the paper's figures (.png)")
+    handover = kinds.add_parser(
+        "handover", help="fetch the object asked for and hand it over (paper 4.3)"
+    )
+    _add_trial_arguments(handover)
+    handover.add_argument(
+        "--refusals", type=int, default=0, help="more trials in which the person never takes it"
+    )
+
+
+def _add_trial_arguments(parser) -> None:
+    """What every trial experiment takes: the scenario, how many trials, the seed, where they
+    run and what to write."""
+    parser.add_argument("scenario", type=Path, help="scenario YAML with two or more objects")
+    parser.add_argument("--trials", type=int, default=60, help="requests (default 60)")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the whole experiment")
+    parser.add_argument("--workers", type=int, help="local worker processes (default: cores)")
+    parser.add_argument("--ray-address", help="run the trials on this existing Ray cluster")
+    parser.add_argument("--csv", type=Path, help="one row per trial (.csv)")
+    parser.add_argument("--json", type=Path, help="summary (.json)")
+    parser.add_argument("--plot", type=Path, help="figure beside the paper's figures (.png)")
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -232,9 +245,9 @@ def _count(value: int | None, option: str, low: int, high: int) -> None:
         raise UsageError(f"{option}: expected an integer in [{low}, {high}], got {value}")
 
 
-def _intent_experiment(args: argparse.Namespace) -> int:
-    from hsr_handover.experiments.intent import run_intent_experiment, summarise
-    from hsr_handover.experiments.intent_report import plot, summary_lines, write_csv
+def _experiment(args: argparse.Namespace) -> int:
+    """Check everything the user gave, run the trials with a progress bar, write what was
+    asked for and print the table."""
     from hsr_handover.experiments.reporting import write_json
     from hsr_handover.experiments.trials import TrialProgress
     from hsr_handover.scenario import load_scenario
@@ -244,7 +257,8 @@ def _intent_experiment(args: argparse.Namespace) -> int:
     if len(scenario.objects) < 2:
         raise UsageError(f"{args.scenario}: objects: expected two or more to choose between")
     _count(args.trials, "--trials", 1, 100_000)
-    _count(args.distractors, "--distractors", 0, 100_000)
+    extra = "distractors" if args.experiment == "intent" else "refusals"
+    _count(getattr(args, extra), f"--{extra}", 0, 100_000)
     _count(args.workers, "--workers", 1, 1024)
     if args.seed not in SEED:
         raise UsageError(f"--seed: expected an integer in {SEED}, got {args.seed}")
@@ -253,26 +267,34 @@ def _intent_experiment(args: argparse.Namespace) -> int:
         "json": _output_path(args.json, "--json", ".json"),
         "plot": _output_path(args.plot, "--plot", ".png"),
     }
-    experiment = run_intent_experiment(
-        scenario, args.trials, args.distractors, args.seed, args.workers, args.ray_address,
+    run, summarise, report = _experiment_kind(args.experiment)
+    experiment = run(
+        scenario, args.trials, getattr(args, extra), args.seed, args.workers, args.ray_address,
         TrialProgress(),
     )  # fmt: skip
     summary = summarise(experiment)
     writers = {
-        "csv": lambda path: write_csv(experiment.rows(), path),
+        "csv": lambda path: report.write_csv(experiment.rows(), path),
         "json": lambda path: write_json(summary, path),
-        "plot": lambda path: plot(summary, path),
+        "plot": lambda path: report.plot(summary, path),
     }
     for name, path in outputs.items():
         if path is not None:
             writers[name](path)
             print(f"wrote {path}")
-    print("\n".join(summary_lines(summary)))
+    print("\n".join(report.summary_lines(summary)))
     return 0
 
 
-def _experiment(args: argparse.Namespace) -> int:
-    return {"intent": _intent_experiment}[args.experiment](args)
+def _experiment_kind(kind: str):
+    """The experiment's (run, summarise, report module)."""
+    if kind == "intent":
+        from hsr_handover.experiments import intent, intent_report
+
+        return intent.run_intent_experiment, intent.summarise, intent_report
+    from hsr_handover.experiments import handover, handover_report
+
+    return handover.run_handover_experiment, handover.summarise, handover_report
 
 
 def main(argv: Sequence[str] | None = None) -> int:

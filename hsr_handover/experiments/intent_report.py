@@ -3,7 +3,6 @@ and a figure with the paper's figures beside ours."""
 
 from __future__ import annotations
 
-import csv
 from pathlib import Path
 
 import matplotlib
@@ -13,7 +12,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from hsr_handover.experiments.intent import POSITIONS  # noqa: E402
-from hsr_handover.experiments.reporting import format_value  # noqa: E402
+from hsr_handover.experiments.reporting import format_value, write_rows  # noqa: E402
 
 CSV_COLUMNS = (
     "index", "kind", "target", "arm", "recognised", "latency_s", "recognised_time_s",
@@ -24,15 +23,7 @@ CSV_COLUMNS = (
 
 def write_csv(rows: list[dict], path: Path) -> None:
     """One row per trial, failed trials included with their reason."""
-    with open(path, "w", newline="") as stream:
-        writer = csv.DictWriter(stream, CSV_COLUMNS, extrasaction="ignore")
-        writer.writeheader()
-        for row in rows:
-            writer.writerow({key: _cell(row.get(key, "")) for key in CSV_COLUMNS})
-
-
-def _cell(value):
-    return f"{value:.4g}" if isinstance(value, float) else value
+    write_rows(rows, CSV_COLUMNS, path)
 
 
 def summary_lines(summary: dict) -> list[str]:

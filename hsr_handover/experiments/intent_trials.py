@@ -70,33 +70,52 @@ def _uniform(rng: np.random.Generator, span: Sequence[float]) -> float:
     return float(rng.uniform(span[0], span[1]))
 
 
-def _make_trial(base: Scenario, index: int, kind: str, target: str, rng) -> IntentTrial:
-    scenario = copy.deepcopy(base)
-    variation = scenario.person.variation
+@dataclasses.dataclass(frozen=True)
+class Request:
+    """How one trial's person asks: with which `arm`, when the look starts (`onset`, s), how
+    long it leads the pointing (`lead`, s) and how long the arm points (`duration`, s)."""
+
+    arm: str
+    onset: float
+    lead: float
+    duration: float
+
+    @property
+    def pointing_onset(self) -> float:
+        return self.onset + self.lead
+
+
+def vary_person(scenario: Scenario, rng: np.random.Generator) -> Request:
+    """Draw a new seed and person for one trial (in place, within `person.variation`) and how
+    they will ask."""
+    variation, person = scenario.person.variation, scenario.person
     scenario.simulation.seed = int(rng.integers(0, 2**32 - 1))
-    person = scenario.person
     person.height = float(np.clip(rng.normal(person.height, variation.height_sd), 1.45, 2.0))
     person.position = [float(v) for v in rng.normal(person.position, variation.position_sd)]
     person.yaw = float(person.yaw + math.radians(rng.normal(0.0, variation.yaw_sd_deg)))
     arm = "left" if rng.random() < variation.left_arm_probability else "right"
     onset = _uniform(rng, variation.onset_s)
     lead = _uniform(rng, variation.look_lead_s)
-    duration = _uniform(rng, variation.point_duration_s)
+    return Request(arm, onset, lead, _uniform(rng, variation.point_duration_s))
+
+
+def _make_trial(base: Scenario, index: int, kind: str, target: str, rng) -> IntentTrial:
+    scenario = copy.deepcopy(base)
+    request = vary_person(scenario, rng)
     look_target = str(rng.choice([obj.name for obj in scenario.objects]))
-    person.behavior = _script(scenario, kind, target or look_target, arm, onset, lead, duration)
-    scenario.simulation.duration = onset + lead + duration + SETTLE_S
+    scenario.person.behavior = script(scenario, kind, target or look_target, request)
+    scenario.simulation.duration = request.pointing_onset + request.duration + SETTLE_S
     scenario.perception.enabled = True
     scenario.handover.enabled = False  # the robot watches; it does not act
     scenario.perception.attention = []
     scenario.camera.render_label = False  # ground truth nobody scores here
-    return IntentTrial(index, kind, target, arm, onset + lead, scenario)
+    return IntentTrial(index, kind, target, request.arm, request.pointing_onset, scenario)
 
 
-def _script(
-    scenario: Scenario, kind: str, target: str, arm: str, onset: float, lead: float, duration: float
-) -> list[ActionConfig]:
-    """The person's behaviour for one trial: look at `target` from `onset`, point at it `lead`
-    later for `duration` (a request), or one of the DISTRACTORS for as long."""
+def script(scenario: Scenario, kind: str, target: str, request: Request) -> list[ActionConfig]:
+    """The person's behaviour for one trial: look at `target` from the request's onset, point
+    at it `lead` later for `duration` (a "request"), or one of the DISTRACTORS for as long."""
+    arm, onset, lead, duration = request.arm, request.onset, request.lead, request.duration
     look = ActionConfig("look_at", onset, target=target)
     if kind == "request":
         point = ActionConfig("point_at", onset + lead, duration, target=target, arm=arm)

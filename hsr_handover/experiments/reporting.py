@@ -3,8 +3,10 @@ text summary's word for it."""
 
 from __future__ import annotations
 
+import csv
 import json
 import math
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -33,3 +35,17 @@ def format_value(value: float, spec: str, unit: str = "") -> str:
     if math.isfinite(value):
         return f"{value:{spec}}{unit}"
     return UNDEFINED.rjust(len(f"{math.nan:{spec}}"))
+
+
+def write_rows(rows: list[dict], columns: Sequence[str], path: Path) -> None:
+    """One CSV row per trial in `columns` (failed trials included, blank where they have no
+    value), floats to four significant digits."""
+    with open(path, "w", newline="") as stream:
+        writer = csv.DictWriter(stream, columns, extrasaction="ignore")
+        writer.writeheader()
+        for row in rows:
+            writer.writerow({key: _cell(row.get(key, "")) for key in columns})
+
+
+def _cell(value: Any) -> Any:
+    return f"{value:.4g}" if isinstance(value, float) else value

@@ -45,7 +45,10 @@ class Failure(enum.Enum):
 
 HELD_OPENING = 0.01
 """m: a gripper closed on an object reads at least this (closed on nothing it reads ~0)."""
-OPEN = 0.1  # m of opening to approach and to let go with
+OPEN = 0.1  # m of opening to approach with
+LET_GO = 0.03
+"""m the fingers open beyond the object's width to let go: no wider, so the finger on the
+person's side does not sweep into the hand that has just taken the object."""
 CLOSED = 0.0  # m commanded to grasp: the fingers stop on the object
 SETTLE_S = 0.8  # s the gripper is given to close or open
 RISE = 0.03  # m the object must rise with the hand, seen by the camera, for a grasp to count
@@ -118,8 +121,9 @@ class CyclePlanner(Protocol):
     def follow(self, q: np.ndarray, v: np.ndarray, hand: np.ndarray, held: object):
         """State to state, to hold the object out at the person's `hand` (m, world)."""
 
-    def retreat(self, q: np.ndarray, held: object) -> PlannedMotions:
-        """Back to the ready posture, with the object `held` or (None) without."""
+    def retreat(self, q: np.ndarray, held: object, let_go: object = None) -> PlannedMotions:
+        """Back to the ready posture, with the object `held` or (None) without; `let_go` is the
+        object just let go of (or missed), still between the fingers, to back away from."""
 
 
 @dataclasses.dataclass
@@ -297,7 +301,7 @@ class HandoverCycle:
             self._let_go(p)
 
     def _let_go(self, p: Percepts) -> None:
-        self._gripper = OPEN
+        self._gripper = min(OPEN, p.opening + LET_GO)
         self._running, self._queue = None, []
         self._hold = (p.q, np.zeros_like(p.q))
         self._enter(Phase.RELEASE, p.time)
@@ -312,7 +316,7 @@ class HandoverCycle:
             self._moving(p.time)
 
     def _release(self, p: Percepts) -> None:
-        opened = p.opening >= OPEN - HELD_OPENING
+        opened = p.opening >= self._gripper - HELD_OPENING
         if p.time - self._since < SETTLE_S or not (opened or p.time - self._since > 3 * SETTLE_S):
             return
         self._retreat_then(p, Phase.DONE, None, "", holding=False)
@@ -368,7 +372,8 @@ class HandoverCycle:
         self._running, self._queue = None, []
         self._hold = (p.q, np.zeros_like(p.q))
         self._after_retreat = (phase, failure, reason)
-        planned = self._planner.retreat(p.q, self._held if holding else None)
+        held, let_go = (self._held, None) if holding else (None, self._held)
+        planned = self._planner.retreat(p.q, held, let_go)
         self.cycle.planning_s += planned.seconds
         if not planned.ok:
             self._finish(phase, failure, reason, p.time)

@@ -157,6 +157,10 @@ class PerceivedPlanner:
                                   seconds=seconds)  # fmt: skip
         return PlannedMotions(True, "ok", (("follow", RetargetedMotion(motion)),), seconds)
 
-    def retreat(self, q: np.ndarray, held: Held | None) -> PlannedMotions:
+    def retreat(
+        self, q: np.ndarray, held: Held | None, let_go: Held | None = None
+    ) -> PlannedMotions:
         started = time.perf_counter()
-        return _motions(plan_retreat(self._planning(), q, self.limits, held), started)
+        released = let_go.label if let_go is not None else ""
+        plan = plan_retreat(self._planning(), q, self.limits, held, released)
+        return _motions(plan, started)

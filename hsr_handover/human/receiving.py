@@ -21,9 +21,14 @@ STILL_SPEED = 0.05  # m/s: an object moving slower than this is being held out
 STILL_S = 0.3  # s it must stay still (and in reach) to count as offered
 RAISED = 0.03  # m above where it first stood: an object on the table is not offered
 REACH_SHARE = 0.95  # of the arm's length (shoulder to the hand's middle) the person reaches to
-GRIP_DISTANCE = 0.12
-"""m from the hand's middle to the object's centre at which the hand closes on it: the hand
-meets the object and the robot's fingers about 10 cm from the centre of a 6 cm box."""
+REACH_SHORT = 0.125
+"""m short of the object's centre, on the person's side, that the hand's middle reaches for:
+a hand's half length (about 9.5 cm) plus half a 6 cm object, so the fingers close on the
+object's near side and stay clear of the robot's fingers (reaching for the centre put the
+person's fingertips between the robot's)."""
+GRIP_DISTANCE = REACH_SHORT + 0.02
+"""m from the hand's middle to the object's centre at which the hand closes on it: there,
+give or take the arm's tracking error."""
 TUG_S = 0.3  # s from closing the hand to drawing the object in
 HOLD_POINT = np.array([0.32, -0.12, -0.05])
 """Where the person brings the object, from the receiving shoulder (m, person frame): in front
@@ -109,7 +114,9 @@ class Receiver:
             return []
         self.state = Receiving.REACHING
         start = time + self._params.reaction_s
-        return [(start, self._posture(start, objects[still]))]
+        toward = shoulder - objects[still]
+        reach = objects[still] + REACH_SHORT * toward / np.linalg.norm(toward)
+        return [(start, self._posture(start, reach))]
 
     def _posture(self, time: float, point: np.ndarray) -> np.ndarray:
         action = Action(REACHES[0], time, None, np.asarray(point, dtype=float), self._params.arm)

@@ -18,11 +18,12 @@ from pydrake.trajectories import BsplineTrajectory
 
 from hsr_handover.effectivity.arm_map import ArmEffectivity
 from hsr_handover.effectivity.person_map import PersonEffectivity
-from hsr_handover.hsr import BASE_JOINTS, GRIPPER_JOINT, GRIPPER_MIMIC_JOINT
+from hsr_handover.hsr import BASE_JOINTS, GRIPPER_JOINT, GRIPPER_MIMIC_JOINT, PALM_FRAME
 from hsr_handover.planning.base_route import route_around
 from hsr_handover.planning.grasp_configurations import grasp_configurations
 from hsr_handover.planning.handover_pose import plan_handover_pose, unseeded_handover_pose
-from hsr_handover.planning.planning_scene import PlanningScene
+from hsr_handover.planning.inverse_kinematics import PalmGoal, solve_palm_ik
+from hsr_handover.planning.planning_scene import PERSON, PlanningScene
 from hsr_handover.planning.timing import JointLimits, TimedPath, time_path
 from hsr_handover.planning.trajectory import (
     COLLISION_BOUND,
@@ -38,7 +39,13 @@ from hsr_handover.planning.trajectory import (
 STAGES = ("ik", "optimisation", "timing")
 HANDOVER = "handover"  # a handover plan's target
 RETREAT = "retreat"  # a retreat plan's target and motion
-STRAIGHT_LEGS = ("approach", "lift")  # short moves of the hand: a straight line when clear
+BACK_OFF = "back off"  # a retreat's first leg when it starts at the person's hand
+STRAIGHT_LEGS = ("approach", "lift", BACK_OFF)  # short moves of the hand: straight when clear
+STOW_BACK_UPS = (0.0, 0.15, 0.3)  # m the base may back up to stow the arm
+BACK_OFF_M = 0.20
+"""m the palm first backs straight out, against its approach, when a retreat starts within the
+collision bound of the person: after letting go, the hand that took the object is at the
+fingers, and no path from inside the person's perceived capsules is feasible."""
 CHECK_STEP = 0.01  # s between clearance checks of a timed trajectory
 VERIFY_PER_SAMPLE = 4  # an optimised path is checked at this many times its optimiser's samples
 DIP_ALLOWANCE = COLLISION_BOUND - 0.01
@@ -139,19 +146,64 @@ def plan_handover(
 
 
 def plan_retreat(
-    scene: PlanningScene, q_now: np.ndarray, limits: JointLimits, held: Held | None = None
+    scene: PlanningScene,
+    q_now: np.ndarray,
+    limits: JointLimits,
+    held: Held | None = None,
+    released: str = "",
 ) -> Plan:
-    """Plan the arm from `q_now` back to STOWED over the base where it stands, with the object
-    `held` (if any) moving with the hand. Never raises: `reason` says why there is none."""
-    q_stowed = q_now.copy()
-    for joint, value in STOWED.items():
-        q_stowed[scene.index(joint)] = value
+    """Plan the arm from `q_now` back to STOWED over the base (backed up from where it stands
+    if the arm cannot stow there), with the object `held` (if any) moving with the hand; the
+    object `released` (its label: just let go of, or missed, and still between the fingers)
+    is backed away from and then ignored. Never raises: `reason` says why there is none."""
     seconds = dict.fromkeys(STAGES, 0.0)
     if held is None:
-        return _plan_legs(scene, RETREAT, ((RETREAT, (), q_now, q_stowed),), limits, seconds, 0)
+        ignore = (released,) if released else ()
+        q_stowed = _stowed(scene, q_now, ignore)
+        legs = ((RETREAT, ignore, q_now, q_stowed),)
+        q_back = _backed_off(scene, q_now, (PERSON, *ignore))
+        if q_back is not None:
+            legs = (
+                (BACK_OFF, (PERSON, *ignore), q_now, q_back),
+                (RETREAT, ignore, q_back, q_stowed),
+            )
+        return _plan_legs(scene, RETREAT, legs, limits, seconds, 0)
     with scene.holding(held.label, held.q_grasp):
-        leg = (RETREAT, (held.label,), q_now, q_stowed)
+        leg = (RETREAT, (held.label,), q_now, _stowed(scene, q_now, (held.label,)))
         return _plan_legs(scene, RETREAT, (leg,), limits, seconds, 0)
+
+
+def _stowed(scene: PlanningScene, q_now: np.ndarray, ignore: tuple[str, ...]) -> np.ndarray:
+    """`q_now` with the arm STOWED, the base backed up by the first of STOW_BACK_UPS that
+    clears the collision bound (the last if none does): a base that came up to the table to
+    present an object has no room there to fold the arm."""
+    x, y, yaw = (scene.index(joint) for joint in BASE_JOINTS)
+    for back in STOW_BACK_UPS:
+        q_stowed = q_now.copy()
+        for joint, value in STOWED.items():
+            q_stowed[scene.index(joint)] = value
+        q_stowed[[x, y]] -= back * np.array([np.cos(q_now[yaw]), np.sin(q_now[yaw])])
+        if scene.clearance_at(q_stowed, ignore) >= COLLISION_BOUND:
+            break
+    return q_stowed
+
+
+def _backed_off(scene: PlanningScene, q_now: np.ndarray, near: tuple[str, ...]):
+    """The configuration with the palm BACK_OFF_M straight back from where it is (base still),
+    when `q_now` is within the collision bound of one of the obstacles named in `near` (the
+    person, the object let go of); None when it is not, or when no such configuration clears
+    everything else."""
+    plant, context = scene.plant, scene.plant_context
+    plant.SetPositions(context, q_now)
+    distance, nearest = scene.clearance()
+    if distance >= COLLISION_BOUND or nearest not in near:
+        return None
+    palm = plant.GetFrameByName(PALM_FRAME, scene.robot).CalcPoseInWorld(context)
+    approach, closing = palm.rotation().matrix()[:, 2], palm.rotation().matrix()[:, 1]
+    opening = 2 * q_now[scene.index(GRIPPER_JOINT)]
+    goal = PalmGoal(palm.translation() - BACK_OFF_M * approach, approach, closing, opening)
+    found = solve_palm_ik(scene, goal, q_now, ignore=near, base_fixed=True)
+    return found.q if found.ok else None
 
 
 def _plan_handover(scene, arm_map, person, q_now, limits, ignore: tuple[str, ...]) -> Plan:

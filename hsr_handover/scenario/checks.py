@@ -409,13 +409,15 @@ def _check_variation(scenario: Scenario, fail: Fail) -> None:
     _number(fail, f"{key}.height_sd", variation.height_sd, Interval(0, 0.2, "m"))
     _number(fail, f"{key}.position_sd", variation.position_sd, Interval(0, 0.3, "m"))
     _number(fail, f"{key}.yaw_sd_deg", variation.yaw_sd_deg, Interval(0, 30, "deg"))
-    for name in ("onset_s", "look_lead_s", "point_duration_s"):
+    spans = ("onset_s", "look_lead_s", "point_duration_s", "reaction_s", "hold_out_delay_s")
+    for name in spans:
         span = getattr(variation, name)
         _numbers(fail, f"{key}.{name}", span, Interval(0, 60, "s"), "[low, high]")
         if span[0] > span[1]:
             fail(f"{key}.{name}", f"expected low <= high, got {span}")
-    probability = variation.left_arm_probability
-    _number(fail, f"{key}.left_arm_probability", probability, Interval(0, 1))
+    for name in ("left_arm_probability", "hold_out_probability"):
+        _number(fail, f"{key}.{name}", getattr(variation, name), Interval(0, 1))
+    _number(fail, f"{key}.hold_out_sd", variation.hold_out_sd, Interval(0, 0.2, "m"))
 
 
 def _check_perception(scenario: Scenario, fail: Fail) -> None:

@@ -148,11 +148,17 @@ class VariationConfig:
     file's person as it is): height (m), position on the floor (m, each axis) and yaw (deg) as
     standard deviations; when the request starts (`onset_s` [earliest, latest]); how long the
     look leads the pointing (`look_lead_s`); how long the arm points (`point_duration_s`); and
-    the chance that the left arm points rather than the right (`left_arm_probability`).
+    the chance that the left arm points rather than the right (`left_arm_probability`). In the
+    handover experiment also: how soon the person reaches for an object held out to them
+    (`reaction_s` [earliest, latest]); the chance they hold out their receiving hand before the
+    robot comes (`hold_out_probability`), how long after the pointing ends (`hold_out_delay_s`)
+    and how far from the usual place, in front of the receiving shoulder (`hold_out_sd`, m each
+    axis).
 
     Ranges: height_sd in [0, 0.2] m; position_sd in [0, 0.3] m; yaw_sd_deg in [0, 30] deg;
-    onset_s, look_lead_s, point_duration_s each [low, high] with 0 <= low <= high <= 60 s;
-    left_arm_probability in [0, 1]."""
+    onset_s, look_lead_s, point_duration_s, reaction_s, hold_out_delay_s each [low, high] with
+    0 <= low <= high <= 60 s; left_arm_probability and hold_out_probability in [0, 1];
+    hold_out_sd in [0, 0.2] m."""
 
     height_sd: float = 0.07
     position_sd: float = 0.05
@@ -161,6 +167,10 @@ class VariationConfig:
     look_lead_s: list[float] = field(default_factory=lambda: [0.2, 0.8])
     point_duration_s: list[float] = field(default_factory=lambda: [2.0, 3.0])
     left_arm_probability: float = 0.3
+    reaction_s: list[float] = field(default_factory=lambda: [0.3, 1.0])
+    hold_out_probability: float = 0.5
+    hold_out_delay_s: list[float] = field(default_factory=lambda: [0.5, 3.0])
+    hold_out_sd: float = 0.05
 
 
 @dataclasses.dataclass

@@ -11,6 +11,7 @@ import pytest
 from hsr_handover.handover.cycle import (
     CLOSED,
     HOLD_S,
+    LET_GO,
     LOOK_S,
     LOST_S,
     OPEN,
@@ -61,7 +62,7 @@ class Planner:
         self.asked.append(("follow", tuple(hand)))
         return PlannedMotions(True, "ok", (("follow", Line(q, q + 0.5, 0.5)),), 0.01)
 
-    def retreat(self, q, held):
+    def retreat(self, q, held, let_go=None):
         self.asked.append(("retreat", held))
         return PlannedMotions(True, "ok", (("retreat", Line(q, np.zeros_like(q))),), 0.1)
 
@@ -127,7 +128,7 @@ def test_a_whole_handover_runs_through_every_phase_in_order():
     assert world.cycle.command(world.time)[2] == CLOSED
     world.hand = world.palm + [0.05, 0.0, 0.0]  # the person's hand at the object
     world.until(Phase.RELEASE)
-    assert world.cycle.command(world.time)[2] == OPEN
+    assert world.cycle.command(world.time)[2] == pytest.approx(world.opening + LET_GO)
     record = world.until(Phase.DONE)
     assert record.failure is None and record.target == "yellow"
     assert list(record.phase_times) == ["approach", "grasp", "lift", "carry", "present",
@@ -221,7 +222,7 @@ def test_a_tug_at_the_object_makes_the_robot_let_go_though_the_hand_is_hidden():
     world.pull = 0.02
     world.tick()
     assert world.cycle.cycle.phase is Phase.RELEASE
-    assert world.cycle.command(world.time)[2] == OPEN
+    assert world.cycle.command(world.time)[2] == pytest.approx(world.opening + LET_GO)
 
 
 def test_a_hand_held_out_elsewhere_is_followed():

@@ -1,0 +1,224 @@
+"""The handover experiment (paper 4.3): the person asks for one object by looking and pointing;
+the robot must recognise it, fetch it and hand it over where both can reach, and the person
+takes it. On refusal trials the person never reaches, and the robot must give up gracefully:
+time out holding the object, touching nothing.
+
+The trials (`handover_trials`) run on the shared trial runner in worker processes or on Ray.
+Each is scored against the world's truth (`handover_scoring`) the way HandoverSim counts: a
+handover succeeds when the person holds the object asked for and the robot has released it,
+within the time limit, with no contact with the person and no drop; plus our own failure
+classes. The robot itself decided from its percepts only.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+
+import numpy as np
+
+from hsr_handover.experiments.handover_scoring import HandoverScorer, TrialScore
+from hsr_handover.experiments.handover_trials import TIME_LIMIT_S, HandoverTrial, make_trials
+from hsr_handover.experiments.trials import Progress, TrialOutcome, run_trials
+from hsr_handover.handover.cycle import Cycle, Phase
+from hsr_handover.scenario import Scenario
+from hsr_handover.simulation import Simulation, run_scenario
+
+PAPER = {"retrieval_rate": 0.866, "handover_rate": 0.90}
+"""The paper's 60 real trials (4.3): the object asked for retrieved, and handed over."""
+FAILURES = (
+    "not recognised", "wrong object", "unreachable", "grasp missed", "dropped", "table contact",
+    "person contact", "person withdrew", "timeout", "kept presenting", "trial crashed",
+)  # fmt: skip
+"""A failed trial's class: the first thing that went wrong. HandoverSim counts contact with
+the person, drop and timeout; the rest are ours."""
+SUCCESS_HOLD_S = 0.1
+"""s the person must have held the object, released, for the handover to be complete
+(HandoverSim's success threshold): its episode ends there, so what happens after is not a
+failure of the handover (`person_contacts` still counts it)."""
+
+
+def run_handover_trial(trial: HandoverTrial) -> dict:
+    """Simulate one trial and score it: a row of the experiment's table."""
+    start = time.perf_counter()
+    scorers: list[HandoverScorer] = []
+
+    def scorer(simulation: Simulation) -> HandoverScorer:
+        scorers.append(HandoverScorer(simulation, trial.target))
+        return scorers[-1]
+
+    report = run_scenario(trial.scenario, monitor_factory=scorer)
+    names = {obj.color: obj.name for obj in trial.scenario.objects}
+    row = judge(trial, report.cycle or Cycle(), scorers[0].score, report.person_holds, names)
+    person = trial.scenario.person
+    return {
+        **row, "seed": trial.scenario.simulation.seed, "person_height_m": person.height,
+        "person_x_m": person.position[0], "person_y_m": person.position[1],
+        "person_yaw_rad": person.yaw, "sim_s": report.sim_time,
+        "wall_s": time.perf_counter() - start,
+    }  # fmt: skip
+
+
+def judge(
+    trial: HandoverTrial, cycle: Cycle, score: TrialScore, holds: str, names: dict[str, str]
+) -> dict:
+    """One trial's outcome from the robot's record (`cycle`), the truth (`score`) and what the
+    person holds at the end; `names` maps the robot's labels (colours) to object names."""
+    recognised = names.get(cycle.target, cycle.target or "") if cycle.target else ""
+    retrieved = trial.target in score.lifted and not _wrong_first(trial.target, score)
+    released = Phase.RELEASE.value in cycle.phase_times
+    release_time = cycle.phase_times.get(Phase.RELEASE.value, math.nan)
+    complete = max(score.gripped, release_time) + SUCCESS_HOLD_S  # nan until both happened
+    failure = _first_failure(trial, cycle, score, recognised, complete)
+    handed_over = trial.takes and not failure and released and holds == trial.target
+    if trial.takes and not failure and not handed_over:
+        failure = "timeout"  # the cycle was not over, or over with the object elsewhere
+    graceful = _graceful(trial, cycle, score)
+    if not trial.takes and not failure and not graceful:
+        failure = "kept presenting"  # a refusal the robot did not give up on
+    return {
+        "index": trial.index, "target": trial.target, "arm": trial.arm, "takes": trial.takes,
+        "reaction_s": trial.reaction_s, "held_out": bool(trial.hold_out),
+        "recognised": recognised, "outcome": cycle.phase.value,
+        "robot_failure": cycle.failure.value if cycle.failure else "", "reason": cycle.reason,
+        "retrieved": retrieved, "handed_over": handed_over, "person_holds": holds,
+        "graceful": graceful, "failure": failure,
+        "table_contact": not math.isnan(score.table_contact),
+        "person_contact": not math.isnan(score.person_contact),
+        "knocked": ",".join(sorted(score.knocked)),
+        "clearance_table_m": score.clearance_table, "clearance_person_m": score.clearance_person,
+        "recognition_s": cycle.recognised_time - trial.pointing_onset,
+        "planning_s": cycle.planning_s, "execution_s": release_time - cycle.recognised_time,
+        "error": "",
+    }  # fmt: skip
+
+
+def _wrong_first(target: str, score: TrialScore) -> bool:
+    """Whether another object was picked up before the target (or instead of it)."""
+    when = score.lifted.get(target, math.inf)
+    return any(name != target and at < when for name, at in score.lifted.items())
+
+
+def _first_failure(
+    trial: HandoverTrial, cycle: Cycle, score: TrialScore, recognised: str, complete: float
+) -> str:
+    """The earliest thing that went wrong before the handover was `complete` (s; NaN if it
+    never was), or ""; a refusal trial's robot timing out, which is what it should do, is not
+    a failure."""
+    if not recognised:
+        return "not recognised"
+    events = [(cycle.recognised_time, "wrong object")] if recognised != trial.target else []
+    events += [(at, name) for at, name in ((score.dropped, "dropped"),
+               (score.table_contact, "table contact"), (score.person_contact, "person contact"))
+               if not math.isnan(at)]  # fmt: skip
+    if cycle.failure is not None:
+        events.append((cycle.phase_times.get(Phase.FAILED.value, math.inf), cycle.failure.value))
+    if not trial.takes:
+        events = [event for event in events if event[1] not in ("timeout", "person withdrew")]
+    events = [event for event in events if not event[0] >= complete]
+    return min(events)[1] if events else ""
+
+
+def _graceful(trial: HandoverTrial, cycle: Cycle, score: TrialScore) -> bool:
+    """A refusal handled as it should be: the robot gave up waiting and kept the object, with
+    no drop and no contact."""
+    if trial.takes:
+        return False
+    untouched = all(math.isnan(at) for at in (score.dropped, score.table_contact,
+                                               score.person_contact))  # fmt: skip
+    return cycle.failure is not None and cycle.failure.value == "timeout" and untouched
+
+
+@dataclasses.dataclass
+class HandoverExperiment:
+    """The trials as run, their outcomes, and the settings that made them."""
+
+    trials: list[HandoverTrial]
+    outcomes: list[TrialOutcome]
+    base: Scenario
+    seed: int
+    wall_s: float
+
+    def rows(self) -> list[dict]:
+        """One row per trial: the trial's own result, or what it was and why it crashed."""
+        rows = []
+        for trial, outcome in zip(self.trials, self.outcomes, strict=True):
+            if outcome.ok:
+                rows.append(outcome.result)
+                continue
+            rows.append({
+                "index": trial.index, "target": trial.target, "arm": trial.arm,
+                "takes": trial.takes, "retrieved": False, "handed_over": False,
+                "graceful": False, "failure": "trial crashed", "error": outcome.error,
+            })  # fmt: skip
+        return rows
+
+
+def run_handover_experiment(
+    base: Scenario,
+    trials: int = 60,
+    refusals: int = 0,
+    seed: int = 0,
+    workers: int | None = None,
+    ray_address: str | None = None,
+    progress: Progress | None = None,
+) -> HandoverExperiment:
+    """Make and run the trials; `summarise` turns the result into the table."""
+    start = time.perf_counter()
+    specs = make_trials(base, trials, refusals, seed)
+    outcomes = run_trials(run_handover_trial, specs, workers, ray_address, progress)
+    return HandoverExperiment(specs, outcomes, base, seed, time.perf_counter() - start)
+
+
+def _rate(hits: int, count: int) -> float:
+    return hits / count if count else math.nan
+
+
+def _median(values: list[float]) -> float:
+    finite = [v for v in values if math.isfinite(v)]
+    return float(np.median(finite)) if finite else math.nan
+
+
+def summarise(experiment: HandoverExperiment) -> dict:
+    """The JSON summary: retrieval and handover rates beside the paper's, failures per class,
+    contacts, the medians of recognition, planning and execution time over successful
+    trials, the least clearance, refusals handled, and the settings the trials ran with."""
+    rows = experiment.rows()
+    requests = [row for row in rows if row["takes"]]
+    refusals = [row for row in rows if not row["takes"]]
+    succeeded = [row for row in requests if row["handed_over"]]
+    failures = dict.fromkeys(FAILURES, 0)
+    for row in rows:
+        if row["failure"]:
+            failures[row["failure"]] += 1
+    ran = [row for row in rows if not row["error"]]
+    return {
+        "trials": len(requests),
+        "retrieval_rate": _rate(sum(row["retrieved"] for row in requests), len(requests)),
+        "handover_rate": _rate(len(succeeded), len(requests)),
+        "paper": PAPER,
+        "failures": failures,
+        "table_contacts": sum(row["table_contact"] for row in ran),
+        "person_contacts": sum(row["person_contact"] for row in ran),
+        "objects_knocked": sum(bool(row["knocked"]) for row in ran),
+        "times_s": {
+            key: _median([row[f"{key}_s"] for row in succeeded])
+            for key in ("recognition", "planning", "execution")
+        },
+        "min_clearance_m": min(
+            (min(row["clearance_table_m"], row["clearance_person_m"]) for row in ran),
+            default=math.nan,
+        ),
+        "refusal_trials": len(refusals),
+        "graceful_refusal_rate": _rate(sum(row["graceful"] for row in refusals), len(refusals)),
+        "time_limit_s": TIME_LIMIT_S,
+        "crashed": [{"index": row["index"], "error": row["error"]} for row in rows if row["error"]],
+        "person_model": {
+            "imprecision": dataclasses.asdict(experiment.base.person.imprecision),
+            "variation": dataclasses.asdict(experiment.base.person.variation),
+            "receiving": dataclasses.asdict(experiment.base.person.receiving),
+        },
+        "seed": experiment.seed,
+        "wall_s": experiment.wall_s,
+    }

@@ -1,0 +1,88 @@
+"""Write the handover experiment's results: a CSV row per trial, the JSON summary, a text table,
+and a figure with the paper's figures beside ours."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")  # files only: no display on a robot's or CI's machine
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from hsr_handover.experiments.reporting import format_value, write_rows  # noqa: E402
+
+CSV_COLUMNS = (
+    "index", "target", "arm", "takes", "reaction_s", "held_out", "recognised", "retrieved",
+    "handed_over", "graceful", "failure", "outcome", "robot_failure", "reason", "person_holds",
+    "table_contact", "person_contact", "knocked", "clearance_table_m", "clearance_person_m",
+    "recognition_s", "planning_s", "execution_s", "seed", "person_height_m", "person_x_m",
+    "person_y_m", "person_yaw_rad", "sim_s", "wall_s", "error",
+)  # fmt: skip
+
+
+def write_csv(rows: list[dict], path: Path) -> None:
+    """One row per trial, crashed trials included with their reason."""
+    write_rows(rows, CSV_COLUMNS, path)
+
+
+def _percent(value: float) -> str:
+    return format_value(100 * value, "5.1f", " %")
+
+
+def summary_lines(summary: dict) -> list[str]:
+    """The summary as text: the two rates beside the paper's, then failures and the rest."""
+    paper, times = summary["paper"], summary["times_s"]
+    lines = [
+        f"{'over ' + str(summary['trials']) + ' requests':22s} {'ours':>8s} {'paper':>8s}",
+        f"{'retrieval':22s} {_percent(summary['retrieval_rate']):>8s} "
+        f"{_percent(paper['retrieval_rate']):>8s}",
+        f"{'handover':22s} {_percent(summary['handover_rate']):>8s} "
+        f"{_percent(paper['handover_rate']):>8s}",
+        "failures: " + (", ".join(f"{name} {count}" for name, count in
+                                  summary["failures"].items() if count) or "none"),
+        f"trials with contact: table {summary['table_contacts']}, person "
+        f"{summary['person_contacts']}; objects knocked in {summary['objects_knocked']}",
+        f"medians over successful handovers: recognition "
+        f"{format_value(times['recognition'], '.2f', ' s')}, planning "
+        f"{format_value(times['planning'], '.2f', ' s')} (wall), execution "
+        f"{format_value(times['execution'], '.1f', ' s')}",
+        f"least clearance to the table or the person: "
+        f"{format_value(100 * summary['min_clearance_m'], '.1f', ' cm')}",
+    ]  # fmt: skip
+    if summary["refusal_trials"]:
+        lines.append(f"refusals handled gracefully: {_percent(summary['graceful_refusal_rate'])} "
+                     f"of {summary['refusal_trials']}")  # fmt: skip
+    lines += [f"  trial {c['index']} crashed: {c['error']}" for c in summary["crashed"]]
+    lines.append(f"wall time {summary['wall_s']:.0f} s")
+    return lines
+
+
+def plot(summary: dict, path: Path) -> None:
+    """Left: retrieval and handover, ours beside the paper's. Right: failures by class."""
+    figure, (bars, failures) = plt.subplots(1, 2, figsize=(11, 4.2))
+    keys = ("retrieval_rate", "handover_rate")
+    x = np.arange(len(keys))
+    ours = [100 * _nan_to_zero(summary[key]) for key in keys]
+    paper = [100 * summary["paper"][key] for key in keys]
+    bars.bar(x - 0.2, ours, 0.4, label="ours (simulated)", color="tab:blue")
+    bars.bar(x + 0.2, paper, 0.4, label="paper (60 real trials)", color="tab:gray")
+    bars.set_xticks(x, ["retrieval", "handover"])
+    bars.set_ylim(0, 105)
+    bars.set_ylabel("trials (%)")
+    bars.set_title(f"Handover, {summary['trials']} requests")
+    bars.legend(loc="lower right")
+    counts = {name: count for name, count in summary["failures"].items() if count}
+    names = list(counts) or ["none"]
+    failures.barh(names, [counts.get(name, 0) for name in names], color="tab:red")
+    failures.set_xlabel("trials")
+    failures.set_title("Failures, first cause per trial")
+    failures.invert_yaxis()
+    figure.tight_layout()
+    figure.savefig(path, dpi=120)
+    plt.close(figure)
+
+
+def _nan_to_zero(value: float) -> float:
+    return 0.0 if value != value else value

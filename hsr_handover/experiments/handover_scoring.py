@@ -1,0 +1,150 @@
+"""A handover trial scored against the world as it truly is, the way HandoverSim counts
+(NVlabs/handover-sim's evaluator: contact with the person, object drop, timeout) plus ours
+(table contact, an object knocked). Ground truth: a simulator monitor for experiments only,
+never read by the robot.
+
+After every plant step it reads the plant's contact results (any contact counts, as in
+HandoverSim) and the objects' heights; every CLEARANCE_EVERY_S it measures the least distance
+from the robot, and the object it carries, to the table and to the person.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+from pydrake.systems.framework import Context, EventStatus
+
+from hsr_handover.simulation import Simulation
+
+LIFTED = 0.05  # m above where it stood: the object has been picked up
+DROPPED = 0.01
+"""m above where it stood: an object picked up and back this low, not in the person's hand, has
+dropped (HandoverSim: not held, and touching the table or below it)."""
+CLEARANCE_EVERY_S = 0.05  # s between clearance measurements
+NEAR = 0.5  # m: distances beyond this are not measured
+
+ROBOT, TABLE, PERSON, HAND = "robot", "table", "person", "hand"
+
+
+@dataclasses.dataclass
+class TrialScore:
+    """What truly happened: when each object was first `lifted` (s), when the target `dropped`,
+    when the robot (or the object it carried) first touched the table, the person, and each
+    other object (`knocked`), when the person's hand closed on the target (`gripped`), and the
+    least clearance from the robot and its load to the table and to the person's body (m; the
+    hands are left out: touching one is a contact, and a hand comes close to take the object)."""
+
+    lifted: dict[str, float] = dataclasses.field(default_factory=dict)
+    dropped: float = math.nan
+    table_contact: float = math.nan
+    person_contact: float = math.nan
+    knocked: dict[str, float] = dataclasses.field(default_factory=dict)
+    gripped: float = math.nan
+    clearance_table: float = math.inf
+    clearance_person: float = math.inf
+
+
+class HandoverScorer:
+    """A simulator monitor scoring one trial in which the person asks for `target` (by name)."""
+
+    def __init__(self, simulation: Simulation, target: str):
+        station = self._station = simulation.station
+        self._plant, self._target = station.plant, target
+        self.score = TrialScore()
+        self._owner = self._owners()
+        self._target_geometries = {g for g, owner in self._owner.items() if owner == target}
+        self._bodies = {name: self._body(instance) for name, instance in station.objects.items()}
+        self._start: dict[str, float] = {}
+        actor = station.diagram.GetSubsystemByName("human_actor")
+        self._actor, self._grip = actor, actor.GetOutputPort("grip")
+        self._next_clearance = 0.0
+
+    def _body(self, instance):
+        return self._plant.get_body(self._plant.GetBodyIndices(instance)[0])
+
+    def _owners(self) -> dict:
+        """Every collision geometry's owner: ROBOT, TABLE, PERSON, HAND (either hand) or the
+        object's name."""
+        station, plant = self._station, self._plant
+        instances = {station.robot: ROBOT, station.table: TABLE, station.person: PERSON}
+        instances.update({instance: name for name, instance in station.objects.items()})
+        owner = {}
+        for instance, name in instances.items():
+            for index in plant.GetBodyIndices(instance):
+                body = plant.get_body(index)
+                who = HAND if name == PERSON and body.name().endswith("hand") else name
+                for geometry in plant.GetCollisionGeometriesForBody(body):
+                    owner[geometry] = who
+        return owner
+
+    def __call__(self, root: Context) -> EventStatus:
+        time = root.get_time()
+        plant_context = self._plant.GetMyContextFromRoot(root)
+        if math.isnan(self.score.gripped):
+            grip = self._grip.Eval(self._actor.GetMyContextFromRoot(root))
+            if grip == self._target:
+                self.score.gripped = time
+        self._heights(time, plant_context)
+        self._contacts(time, plant_context)
+        if time >= self._next_clearance:
+            self._next_clearance = time + CLEARANCE_EVERY_S
+            self._clearance(plant_context)
+        return EventStatus.Succeeded()
+
+    def _carrying(self) -> bool:
+        """Whether the target counts as part of the robot: lifted, not dropped, not taken."""
+        score = self.score
+        return self._target in score.lifted and math.isnan(score.dropped + score.gripped)
+
+    def _heights(self, time: float, plant_context) -> None:
+        score = self.score
+        for name, body in self._bodies.items():
+            height = body.EvalPoseInWorld(plant_context).translation()[2]
+            start = self._start.setdefault(name, height)
+            if name not in score.lifted and height > start + LIFTED:
+                score.lifted[name] = time
+        target = self._target
+        if self._carrying():
+            height = self._bodies[target].EvalPoseInWorld(plant_context).translation()[2]
+            if height < self._start[target] + DROPPED:
+                score.dropped = time
+
+    def _contacts(self, time: float, plant_context) -> None:
+        results = self._plant.get_contact_results_output_port().Eval(plant_context)
+        pairs = []
+        for i in range(results.num_hydroelastic_contacts()):
+            surface = results.hydroelastic_contact_info(i).contact_surface()
+            pairs.append((surface.id_M(), surface.id_N()))
+        for i in range(results.num_point_pair_contacts()):
+            info = results.point_pair_contact_info(i).point_pair()
+            pairs.append((info.id_A, info.id_B))
+        for a, b in pairs:
+            self._contact(time, self._owner.get(a, ""), self._owner.get(b, ""))
+
+    def _contact(self, time: float, a: str, b: str) -> None:
+        score, carrying = self.score, self._carrying()
+        for mine, other in ((a, b), (b, a)):
+            carried = carrying and mine == self._target
+            if not (mine == ROBOT or carried) or other == ROBOT or (carried and other == HAND):
+                continue  # the hand is there to take the object
+            if other == TABLE and math.isnan(score.table_contact):
+                score.table_contact = time
+            elif other in (PERSON, HAND) and math.isnan(score.person_contact):
+                score.person_contact = time
+            elif other not in (TABLE, PERSON, HAND, self._target, ""):
+                score.knocked.setdefault(other, time)
+
+    def _clearance(self, plant_context) -> None:
+        query = self._plant.get_geometry_query_input_port().Eval(plant_context)
+        carried = self._target_geometries if self._carrying() else set()
+        score = self.score
+        for pair in query.ComputeSignedDistancePairwiseClosestPoints(NEAR):
+            for mine, other in ((pair.id_A, pair.id_B), (pair.id_B, pair.id_A)):
+                if self._owner.get(mine) != ROBOT and mine not in carried:
+                    continue
+                owner = self._owner.get(other, "")
+                if owner == TABLE:
+                    score.clearance_table = min(score.clearance_table, pair.distance)
+                elif owner == PERSON:
+                    score.clearance_person = min(score.clearance_person, pair.distance)
