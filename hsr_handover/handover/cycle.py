@@ -53,9 +53,13 @@ CLOSED = 0.0  # m commanded to grasp: the fingers stop on the object
 SETTLE_S = 0.8  # s the gripper is given to close or open
 RISE = 0.03  # m the object must rise with the hand, seen by the camera, for a grasp to count
 LOOK_S = 0.8  # s the robot looks at the person before it plans the way to them
-REACH = 0.15
-"""m: the person's hand this near the object counts as reaching for it (a hand's length: the
-wrist keypoint sits that far from the fingers that close on it)."""
+REACH = 0.28
+"""m: the person's hand this near the palm counts as at the object: the wrist keypoint sits a
+hand's length (about 19 cm) behind fingertips that close on the object's near side, half an
+object (3-4 cm) from its centre, plus the skeleton's few cm of error."""
+OFFER = 0.2
+"""m from a hand held out elsewhere that the robot brings the object to: in front of the
+fingers, for the person to close them on (the wrist itself is inside the person's hand)."""
 HOLD_S = 0.8  # s the hand stays at the object before the robot lets go
 PULL = 0.01
 """m the palm may be pulled off its commanded point, still, before the robot lets go: the
@@ -277,6 +281,9 @@ class HandoverCycle:
         if p.pull > PULL and not self._moving(p.time):
             self._let_go(p)
             return
+        if p.opening < HELD_OPENING and self._hand_near(p):
+            self._let_go(p)  # the person drew it out of the fingers: it is theirs
+            return
         if self._dropped(p):
             return
         if p.time - self._since > WAIT_S:
@@ -289,16 +296,25 @@ class HandoverCycle:
             return
         if p.hand is None:
             return
-        distance = float(np.linalg.norm(p.hand - p.palm)) if p.palm is not None else math.inf
+        distance = _distance(p.hand, p.palm)
         if distance > REACH:
             self._near_since = None
             since = p.time - self._followed_at
-            if distance > RETARGET and since > FOLLOW_EVERY_S and not self._moving(p.time):
+            if (
+                p.palm is not None
+                and distance > RETARGET
+                and since > FOLLOW_EVERY_S
+                and not self._moving(p.time)
+            ):
                 self._follow(p)
             return
         self._near_since = p.time if self._near_since is None else self._near_since
         if p.time - self._near_since >= HOLD_S:
             self._let_go(p)
+
+    @staticmethod
+    def _hand_near(p: Percepts) -> bool:
+        return p.hand is not None and _distance(p.hand, p.palm) <= REACH
 
     def _let_go(self, p: Percepts) -> None:
         self._gripper = min(OPEN, p.opening + LET_GO)
@@ -309,7 +325,9 @@ class HandoverCycle:
     def _follow(self, p: Percepts) -> None:
         """Re-target state to state (ruckig) to hold the object out at the hand."""
         self._followed_at = p.time
-        planned = self._planner.follow(p.q, np.zeros_like(p.q), p.hand, self._held)
+        toward = (p.palm - p.hand) / _distance(p.hand, p.palm)
+        offer = p.hand + OFFER * toward
+        planned = self._planner.follow(p.q, np.zeros_like(p.q), offer, self._held)
         self.cycle.planning_s += planned.seconds
         if planned.ok:
             self._queue = list(planned.motions)
@@ -388,3 +406,8 @@ class HandoverCycle:
     def _enter(self, phase: Phase, time: float) -> None:
         self.cycle.phase, self._since = phase, time
         self.cycle.phase_times.setdefault(phase.value, time)
+
+
+def _distance(hand: np.ndarray, palm: np.ndarray | None) -> float:
+    """m from the hand to the palm (infinite when the palm is not known)."""
+    return float(np.linalg.norm(hand - palm)) if palm is not None else math.inf

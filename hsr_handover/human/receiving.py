@@ -21,11 +21,12 @@ STILL_SPEED = 0.05  # m/s: an object moving slower than this is being held out
 STILL_S = 0.3  # s it must stay still (and in reach) to count as offered
 RAISED = 0.03  # m above where it first stood: an object on the table is not offered
 REACH_SHARE = 0.95  # of the arm's length (shoulder to the hand's middle) the person reaches to
-REACH_SHORT = 0.125
+REACH_SHORT = 0.14
 """m short of the object's centre, on the person's side, that the hand's middle reaches for:
-a hand's half length (about 9.5 cm) plus half a 6 cm object, so the fingers close on the
-object's near side and stay clear of the robot's fingers (reaching for the centre put the
-person's fingertips between the robot's)."""
+a hand's half length (about 9.5 cm) plus half the largest bundled object (4 cm), so the
+fingertips stop at the object's near side, clear of the robot's fingers beside it (reaching
+for the centre put the person's fingertips between the robot's). The hand's hold is a soft
+weld (`systems/hand_grip.py`), not friction, so it needs no squeeze."""
 GRIP_DISTANCE = REACH_SHORT + 0.02
 """m from the hand's middle to the object's centre at which the hand closes on it: there,
 give or take the arm's tracking error."""

@@ -14,7 +14,9 @@ from hsr_handover.handover.cycle import (
     LET_GO,
     LOOK_S,
     LOST_S,
+    OFFER,
     OPEN,
+    REACH,
     SETTLE_S,
     WAIT_S,
     Failure,
@@ -227,10 +229,21 @@ def test_a_tug_at_the_object_makes_the_robot_let_go_though_the_hand_is_hidden():
 
 def test_a_hand_held_out_elsewhere_is_followed():
     world = _presenting()
-    world.hand = world.palm + [0.0, 0.3, 0.0]
+    world.hand = world.palm + [0.0, 0.5, 0.0]
     world.tick()
-    assert world.planner.asked[-1][0] == "follow"
+    name, goal = world.planner.asked[-1]
+    assert name == "follow"
+    # The object is brought in front of the fingers, not into the wrist.
+    np.testing.assert_allclose(goal, world.hand - [0.0, OFFER, 0.0])
     assert world.cycle.command(world.time + 0.25)[0] is not None
+
+
+def test_an_object_drawn_out_of_the_fingers_by_a_hand_at_it_is_handed_over_not_dropped():
+    world = _presenting()
+    world.hand = world.palm + [0.0, 0.0, REACH - 0.02]
+    world.opening = 0.0  # pulled out before the robot had let go
+    world.tick()
+    assert world.cycle.cycle.phase is Phase.RELEASE and world.cycle.cycle.failure is None
 
 
 def test_a_copy_steps_on_its_own():
