@@ -18,9 +18,10 @@ import time
 
 import numpy as np
 
+from hsr_handover.experiments.experiment import TrialExperiment, rate
 from hsr_handover.experiments.handover_scoring import HandoverScorer, TrialScore
 from hsr_handover.experiments.handover_trials import TIME_LIMIT_S, HandoverTrial, make_trials
-from hsr_handover.experiments.trials import Progress, TrialOutcome, run_trials
+from hsr_handover.experiments.trials import Progress
 from hsr_handover.handover.cycle import Cycle, Phase
 from hsr_handover.scenario import Scenario
 from hsr_handover.simulation import Simulation, run_scenario
@@ -130,29 +131,13 @@ def _graceful(trial: HandoverTrial, cycle: Cycle, score: TrialScore) -> bool:
     return cycle.failure is not None and cycle.failure.value == "timeout" and untouched
 
 
-@dataclasses.dataclass
-class HandoverExperiment:
-    """The trials as run, their outcomes, and the settings that made them."""
+class HandoverExperiment(TrialExperiment):
+    """The handover trials as run, their outcomes, and the settings that made them."""
 
-    trials: list[HandoverTrial]
-    outcomes: list[TrialOutcome]
-    base: Scenario
-    seed: int
-    wall_s: float
-
-    def rows(self) -> list[dict]:
-        """One row per trial: the trial's own result, or what it was and why it crashed."""
-        rows = []
-        for trial, outcome in zip(self.trials, self.outcomes, strict=True):
-            if outcome.ok:
-                rows.append(outcome.result)
-                continue
-            rows.append({
-                "index": trial.index, "target": trial.target, "arm": trial.arm,
-                "takes": trial.takes, "retrieved": False, "handed_over": False,
-                "graceful": False, "failure": "trial crashed", "error": outcome.error,
-            })  # fmt: skip
-        return rows
+    def crashed_row(self, trial: HandoverTrial) -> dict:
+        return {"target": trial.target, "arm": trial.arm, "takes": trial.takes,
+                "retrieved": False, "handed_over": False, "graceful": False,
+                "failure": "trial crashed"}  # fmt: skip
 
 
 def run_handover_experiment(
@@ -165,14 +150,9 @@ def run_handover_experiment(
     progress: Progress | None = None,
 ) -> HandoverExperiment:
     """Make and run the trials; `summarise` turns the result into the table."""
-    start = time.perf_counter()
-    specs = make_trials(base, trials, refusals, seed)
-    outcomes = run_trials(run_handover_trial, specs, workers, ray_address, progress)
-    return HandoverExperiment(specs, outcomes, base, seed, time.perf_counter() - start)
-
-
-def _rate(hits: int, count: int) -> float:
-    return hits / count if count else math.nan
+    counts = (trials, refusals)
+    return HandoverExperiment.run(make_trials, run_handover_trial, base, counts, seed, workers,
+                                  ray_address, progress)  # fmt: skip
 
 
 def _median(values: list[float]) -> float:
@@ -195,8 +175,8 @@ def summarise(experiment: HandoverExperiment) -> dict:
     ran = [row for row in rows if not row["error"]]
     return {
         "trials": len(requests),
-        "retrieval_rate": _rate(sum(row["retrieved"] for row in requests), len(requests)),
-        "handover_rate": _rate(len(succeeded), len(requests)),
+        "retrieval_rate": rate(sum(row["retrieved"] for row in requests), len(requests)),
+        "handover_rate": rate(len(succeeded), len(requests)),
         "paper": PAPER,
         "failures": failures,
         "table_contacts": sum(row["table_contact"] for row in ran),
@@ -211,7 +191,7 @@ def summarise(experiment: HandoverExperiment) -> dict:
             default=math.nan,
         ),
         "refusal_trials": len(refusals),
-        "graceful_refusal_rate": _rate(sum(row["graceful"] for row in refusals), len(refusals)),
+        "graceful_refusal_rate": rate(sum(row["graceful"] for row in refusals), len(refusals)),
         "time_limit_s": TIME_LIMIT_S,
         "crashed": [{"index": row["index"], "error": row["error"]} for row in rows if row["error"]],
         "person_model": {

@@ -15,9 +15,10 @@ import time
 
 import numpy as np
 
+from hsr_handover.experiments.experiment import TrialExperiment, rate
 from hsr_handover.experiments.intent_percepts import PerceptRecorder
 from hsr_handover.experiments.intent_trials import IntentTrial, make_trials, object_positions
-from hsr_handover.experiments.trials import Progress, TrialOutcome, run_trials
+from hsr_handover.experiments.trials import Progress
 from hsr_handover.scenario import Scenario
 from hsr_handover.simulation import Simulation, run_scenario
 
@@ -57,28 +58,11 @@ def run_intent_trial(trial: IntentTrial) -> dict:
     }  # fmt: skip
 
 
-@dataclasses.dataclass
-class IntentExperiment:
-    """The trials as run, their outcomes, and the settings that made them."""
+class IntentExperiment(TrialExperiment):
+    """The intent trials as run, their outcomes, and the settings that made them."""
 
-    trials: list[IntentTrial]
-    outcomes: list[TrialOutcome]
-    base: Scenario
-    seed: int
-    wall_s: float
-
-    def rows(self) -> list[dict]:
-        """One row per trial: the trial's own result, or what it was and why it failed."""
-        rows = []
-        for trial, outcome in zip(self.trials, self.outcomes, strict=True):
-            if outcome.ok:
-                rows.append({**outcome.result, "error": ""})
-            else:
-                what = {"kind": trial.kind, "target": trial.target, "arm": trial.arm}
-                rows.append(
-                    {"index": trial.index, **what, "recognised": "", "error": outcome.error}
-                )
-        return rows
+    def crashed_row(self, trial: IntentTrial) -> dict:
+        return {"kind": trial.kind, "target": trial.target, "arm": trial.arm, "recognised": ""}
 
 
 def run_intent_experiment(
@@ -91,14 +75,9 @@ def run_intent_experiment(
     progress: Progress | None = None,
 ) -> IntentExperiment:
     """Make and run the trials; `summarise` turns the result into the paper's table."""
-    start = time.perf_counter()
-    specs = make_trials(base, trials, distractors, seed)
-    outcomes = run_trials(run_intent_trial, specs, workers, ray_address, progress)
-    return IntentExperiment(specs, outcomes, base, seed, time.perf_counter() - start)
-
-
-def _rate(hits: int, count: int) -> float:
-    return hits / count if count else math.nan
+    counts = (trials, distractors)
+    return IntentExperiment.run(make_trials, run_intent_trial, base, counts, seed, workers,
+                                ray_address, progress)  # fmt: skip
 
 
 def summarise(experiment: IntentExperiment) -> dict:
@@ -115,14 +94,14 @@ def summarise(experiment: IntentExperiment) -> dict:
     names = [obj.name for obj in experiment.base.objects]
     success = [row["recognised"] == row["target"] for row in requests]
     by_object = {
-        name: _rate(sum(s for r, s in zip(requests, success, strict=True) if r["target"] == name),
+        name: rate(sum(s for r, s in zip(requests, success, strict=True) if r["target"] == name),
                     sum(r["target"] == name for r in requests))
         for name in names
     }  # fmt: skip
     by_position = {}
     for side in POSITIONS:
         picked = [s for r, s in zip(requests, success, strict=True) if sides[r["target"]] == side]
-        by_position[side] = _rate(sum(picked), len(picked))
+        by_position[side] = rate(sum(picked), len(picked))
     confusion = {name: dict.fromkeys([*names, "none"], 0) for name in names}
     for row in requests:
         confusion[row["target"]][row["recognised"] or "none"] += 1
@@ -131,13 +110,13 @@ def summarise(experiment: IntentExperiment) -> dict:
     return {
         "trials": len(requests),
         "distractor_trials": len(distractors),
-        "success_rate": _rate(sum(success), len(requests)),
+        "success_rate": rate(sum(success), len(requests)),
         "by_position": by_position,
         "paper_by_position": PAPER_BY_POSITION,
         "object_positions": sides,
         "by_object": by_object,
         "confusion": confusion,
-        "false_trigger_rate": _rate(
+        "false_trigger_rate": rate(
             sum(bool(r["recognised"]) for r in distractors_run), len(distractors_run)
         ),  # fmt: skip
         "latency_s": {

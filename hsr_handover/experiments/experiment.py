@@ -1,0 +1,59 @@
+"""What the trial experiments (intent, handover) share: the trials as run with their outcomes
+and settings, one row per trial whether it ran or crashed, and running them."""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from collections.abc import Callable
+from typing import Any
+
+from hsr_handover.experiments.trials import Progress, TrialOutcome, run_trials
+from hsr_handover.scenario import Scenario
+
+
+@dataclasses.dataclass
+class TrialExperiment:
+    """The trials as run, their outcomes, and the settings that made them. A subclass says what
+    a crashed trial's row holds (`crashed_row`)."""
+
+    trials: list[Any]
+    outcomes: list[TrialOutcome]
+    base: Scenario
+    seed: int
+    wall_s: float
+
+    def rows(self) -> list[dict]:
+        """One row per trial: the trial's own result, or what it was and why it crashed."""
+        return [
+            {"error": "", **outcome.result} if outcome.ok
+            else {**self.crashed_row(trial), "index": trial.index, "error": outcome.error}
+            for trial, outcome in zip(self.trials, self.outcomes, strict=True)
+        ]  # fmt: skip
+
+    def crashed_row(self, trial: Any) -> dict:
+        """What a crashed trial's row says of it besides its index and error."""
+        raise NotImplementedError
+
+    @classmethod
+    def run(
+        cls,
+        make_trials: Callable[[Scenario, int, int, int], list[Any]],
+        run_trial: Callable[[Any], dict],
+        base: Scenario,
+        counts: tuple[int, int],
+        seed: int,
+        workers: int | None,
+        ray_address: str | None,
+        progress: Progress | None,
+    ):
+        """Make the trials (`make_trials(base, *counts, seed)`) and run them."""
+        start = time.perf_counter()
+        specs = make_trials(base, *counts, seed)
+        outcomes = run_trials(run_trial, specs, workers, ray_address, progress)
+        return cls(specs, outcomes, base, seed, time.perf_counter() - start)
+
+
+def rate(hits: int, count: int) -> float:
+    """hits / count, NaN when there is nothing to count."""
+    return hits / count if count else float("nan")
