@@ -16,7 +16,8 @@ from hsr_handover.experiments.reporting import format_value, write_rows  # noqa:
 CSV_COLUMNS = (
     "index", "target", "arm", "takes", "reaction_s", "held_out", "recognised", "retrieved",
     "handed_over", "graceful", "failure", "outcome", "robot_failure", "reason", "person_holds",
-    "table_contact", "person_contact", "knocked", "clearance_table_m", "clearance_person_m",
+    "table_contact", "person_contact", "knocked", "table_contact_s", "person_contact_s",
+    "dropped_s", "gripped_s", "released_s", "clearance_table_m", "clearance_person_m",
     "recognition_s", "planning_s", "execution_s", "seed", "person_height_m", "person_x_m",
     "person_y_m", "person_yaw_rad", "sim_s", "wall_s", "error",
 )  # fmt: skip

@@ -31,9 +31,10 @@ ROBOT, TABLE, PERSON, HAND = "robot", "table", "person", "hand"
 class TrialScore:
     """What truly happened: when each object was first `lifted` (s), when the target `dropped`,
     when the robot (or the object it carried) first touched the table, the person, and each
-    other object (`knocked`), when the person's hand closed on the target (`gripped`), and the
-    least clearance from the robot and its load to the table and to the person's body (m; the
-    hands are left out: touching one is a contact, and a hand comes close to take the object)."""
+    other object (`knocked`; the judge leaves out any that were picked up), when the person's
+    hand closed on the target (`gripped`), and the least clearance from the robot and its load
+    to the table and to the person's body (m; the hands are left out: touching one is a
+    contact, and a hand comes close to take the object)."""
 
     lifted: dict[str, float] = dataclasses.field(default_factory=dict)
     dropped: float = math.nan

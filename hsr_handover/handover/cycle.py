@@ -53,18 +53,16 @@ CLOSED = 0.0  # m commanded to grasp: the fingers stop on the object
 SETTLE_S = 0.8  # s the gripper is given to close or open
 RISE = 0.03  # m the object must rise with the hand, seen by the camera, for a grasp to count
 LOOK_S = 0.8  # s the robot looks at the person before it plans the way to them
-REACH = 0.28
-"""m: the person's hand this near the palm counts as at the object: the wrist keypoint sits a
-hand's length (about 19 cm) behind fingertips that close on the object's near side, half an
-object (3-4 cm) from its centre, plus the skeleton's few cm of error."""
+REACH = 0.32
+"""m: the person's hand this near the palm counts as at the object: the wrist keypoint sits
+about 27 cm from the centre of an object the person closes a hand on (a hand's length behind
+fingertips a few cm short of it), plus the skeleton's few cm of error."""
 OFFER = 0.2
 """m from a hand held out elsewhere that the robot brings the object to: in front of the
 fingers, for the person to close them on (the wrist itself is inside the person's hand)."""
-HOLD_S = 0.8  # s the hand stays at the object before the robot lets go
 PULL = 0.01
 """m the palm may be pulled off its commanded point, still, before the robot lets go: the
 person has hold of the object and draws it in (the arm's own sag is under 3 mm)."""
-RETARGET = 0.10  # m the hand may move from where the object is held before the robot follows
 FOLLOW_EVERY_S = 1.0  # s between tries to follow the hand (a hand out of reach fails each)
 WAIT_S = 12.0  # s the robot presents the object before it gives up (HandoverSim's 13 s limit)
 LOST_S = 2.0  # s without seeing the person while presenting: the person withdrew
@@ -173,7 +171,6 @@ class HandoverCycle:
         self._since = 0.0  # when the current wait began
         self._seen_at = 0.0  # when the person was last seen
         self._followed_at = -math.inf  # when it last tried to follow the hand
-        self._near_since: float | None = None
         self._object_start: np.ndarray | None = None
         self._after_retreat: tuple[Phase, Failure | None, str] = (Phase.DONE, None, "")
         self._lift_motion: tuple[str, Motion] | None = None
@@ -273,7 +270,7 @@ class HandoverCycle:
         if self._dropped(p) or self._moving(p.time):
             return
         self._enter(Phase.PRESENT, p.time)
-        self._seen_at, self._near_since = p.time, None
+        self._seen_at = p.time
 
     def _present(self, p: Percepts) -> None:
         if p.person is not None:
@@ -294,23 +291,12 @@ class HandoverCycle:
             reason = f"the person was out of sight for {LOST_S:.0f} s; holding the object"
             self._fail_and_retreat(p, Failure.PERSON_WITHDREW, reason, holding=True)
             return
-        if p.hand is None:
+        # A hand near the object is not yet holding it (a hand held out, a person who changes
+        # their mind): the robot lets go only when it feels the object taken, above.
+        if p.hand is None or p.palm is None or self._hand_near(p):
             return
-        distance = _distance(p.hand, p.palm)
-        if distance > REACH:
-            self._near_since = None
-            since = p.time - self._followed_at
-            if (
-                p.palm is not None
-                and distance > RETARGET
-                and since > FOLLOW_EVERY_S
-                and not self._moving(p.time)
-            ):
-                self._follow(p)
-            return
-        self._near_since = p.time if self._near_since is None else self._near_since
-        if p.time - self._near_since >= HOLD_S:
-            self._let_go(p)
+        if p.time - self._followed_at > FOLLOW_EVERY_S and not self._moving(p.time):
+            self._follow(p)
 
     @staticmethod
     def _hand_near(p: Percepts) -> bool:

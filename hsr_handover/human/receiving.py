@@ -21,15 +21,16 @@ STILL_SPEED = 0.05  # m/s: an object moving slower than this is being held out
 STILL_S = 0.3  # s it must stay still (and in reach) to count as offered
 RAISED = 0.03  # m above where it first stood: an object on the table is not offered
 REACH_SHARE = 0.95  # of the arm's length (shoulder to the hand's middle) the person reaches to
-REACH_SHORT = 0.14
-"""m short of the object's centre, on the person's side, that the hand's middle reaches for:
-a hand's half length (about 9.5 cm) plus half the largest bundled object (4 cm), so the
-fingertips stop at the object's near side, clear of the robot's fingers beside it (reaching
-for the centre put the person's fingertips between the robot's). The hand's hold is a soft
-weld (`systems/hand_grip.py`), not friction, so it needs no squeeze."""
-GRIP_DISTANCE = REACH_SHORT + 0.02
-"""m from the hand's middle to the object's centre at which the hand closes on it: there,
-give or take the arm's tracking error."""
+REACH_SHORT = 0.17
+"""m short of the object's centre, on the person's side, that the hand's middle reaches for: a
+hand's half length (about 9.5 cm) plus 7.5 cm, so the box-shaped hand stops clear of the robot's
+fingertips, which stand up to 5 cm past the object's centre when the gripper points at the
+person (reaching for the centre, or for the object's near side, put the person's fingertips
+against the robot's). The hand's hold is a soft weld (`systems/hand_grip.py`), not friction,
+so it closes a little short of the object's surface."""
+GRIP_DISTANCE = REACH_SHORT + 0.005
+"""m from the hand's middle to the object's centre at which the hand closes on it: where it
+arrives (closing earlier, the hand went on 2 cm into the robot's fingers)."""
 TUG_S = 0.3  # s from closing the hand to drawing the object in
 HOLD_POINT = np.array([0.32, -0.12, -0.05])
 """Where the person brings the object, from the receiving shoulder (m, person frame): in front

@@ -42,6 +42,10 @@ RETREAT = "retreat"  # a retreat plan's target and motion
 BACK_OFF = "back off"  # a retreat's first leg when it starts at the person's hand
 STRAIGHT_LEGS = ("approach", "lift", BACK_OFF)  # short moves of the hand: straight when clear
 STOW_BACK_UPS = (0.0, 0.15, 0.3)  # m the base may back up to stow the arm
+STOWED_HOLDING = {"arm_lift_joint": 0.3, "torso_lift_joint": 0.15}
+"""Stowed with an object still in the hand (a handover nobody took), the arm raised 30 cm: at
+STOWED's height the object rests on the base's front, which levered a cup out of the fingers
+2 s after the retreat."""
 BACK_OFF_M = 0.20
 """m the palm first backs straight out, against its approach, when a retreat starts within the
 collision bound of the person: after letting go, the hand that took the object is at the
@@ -169,18 +173,21 @@ def plan_retreat(
             )
         return _plan_legs(scene, RETREAT, legs, limits, seconds, 0)
     with scene.holding(held.label, held.q_grasp):
-        leg = (RETREAT, (held.label,), q_now, _stowed(scene, q_now, (held.label,)))
+        q_stowed = _stowed(scene, q_now, (held.label,), STOWED | STOWED_HOLDING)
+        leg = (RETREAT, (held.label,), q_now, q_stowed)
         return _plan_legs(scene, RETREAT, (leg,), limits, seconds, 0)
 
 
-def _stowed(scene: PlanningScene, q_now: np.ndarray, ignore: tuple[str, ...]) -> np.ndarray:
-    """`q_now` with the arm STOWED, the base backed up by the first of STOW_BACK_UPS that
-    clears the collision bound (the last if none does): a base that came up to the table to
-    present an object has no room there to fold the arm."""
+def _stowed(
+    scene: PlanningScene, q_now: np.ndarray, ignore: tuple[str, ...], posture=STOWED
+) -> np.ndarray:
+    """`q_now` with the arm in `posture`, the base backed up by the first of STOW_BACK_UPS
+    that clears the collision bound (the last if none does): a base that came up to the table
+    to present an object has no room there to fold the arm."""
     x, y, yaw = (scene.index(joint) for joint in BASE_JOINTS)
     for back in STOW_BACK_UPS:
         q_stowed = q_now.copy()
-        for joint, value in STOWED.items():
+        for joint, value in posture.items():
             q_stowed[scene.index(joint)] = value
         q_stowed[[x, y]] -= back * np.array([np.cos(q_now[yaw]), np.sin(q_now[yaw])])
         if scene.clearance_at(q_stowed, ignore) >= COLLISION_BOUND:
