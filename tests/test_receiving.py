@@ -11,6 +11,7 @@ from pydrake.systems.analysis import Simulator
 
 from hsr_handover.human.body import BodyDimensions
 from hsr_handover.human.receiving import (
+    DRAW_IN_S,
     GRIP_DISTANCE,
     STILL_S,
     TUG_S,
@@ -51,7 +52,7 @@ def test_an_object_resting_where_it_stood_is_not_offered_even_within_reach():
     assert receiver.state is Receiving.WAITING
 
 
-def test_the_hand_closes_at_the_object_and_draws_it_in_after_a_tug():
+def test_the_hand_closes_at_the_object_tugs_it_straight_back_then_draws_it_in():
     receiver = Receiver(BODY, ReceivingParams())
     receiver.update(0.0, {"cup": ON_TABLE}, SHOULDER)
     _offer(receiver, start=0.05)
@@ -61,8 +62,14 @@ def test_the_hand_closes_at_the_object_and_draws_it_in_after_a_tug():
     receiver.update(2.05, {"cup": OFFERED}, near)
     assert receiver.state is Receiving.HOLDING and receiver.grip == "cup"
     assert receiver.update(2.05 + TUG_S / 2, {"cup": OFFERED}, near) == []
-    (start, _), *rest = receiver.update(2.06 + TUG_S, {"cup": OFFERED}, near)
+    (start, tug), *rest = receiver.update(2.06 + TUG_S, {"cup": OFFERED}, near)
+    assert rest == [] and receiver.state is Receiving.TUGGING and receiver.grip == "cup"
+    assert receiver.update(2.06 + TUG_S + DRAW_IN_S / 2, {"cup": OFFERED}, near) == []
+    (_, drawn_in), *rest = receiver.update(2.06 + TUG_S + DRAW_IN_S, {"cup": OFFERED}, near)
     assert rest == [] and receiver.state is Receiving.DRAWN_IN and receiver.grip == "cup"
+    # The tug is a small move of the arm; drawing the object in, a large one.
+    rest_posture = receiver._posture(0.0, near)
+    assert np.abs(tug - rest_posture).max() < np.abs(drawn_in - rest_posture).max()
 
 
 def test_a_person_who_does_not_take_never_reaches():

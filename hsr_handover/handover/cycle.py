@@ -60,6 +60,10 @@ fingertips a few cm short of it), plus the skeleton's few cm of error."""
 OFFER = 0.2
 """m from a hand held out elsewhere that the robot brings the object to: in front of the
 fingers, for the person to close them on (the wrist itself is inside the person's hand)."""
+FOLLOW_BEYOND = 0.45
+"""m: a hand held out farther than this from the palm is followed; a nearer one is reaching
+for the object, and the robot holds still for it (following a hand that had just closed on the
+object pushed the gripper into it)."""
 PULL = 0.01
 """m the palm may be pulled off its commanded point, still, before the robot lets go: the
 person has hold of the object and draws it in (the arm's own sag is under 3 mm)."""
@@ -293,7 +297,7 @@ class HandoverCycle:
             return
         # A hand near the object is not yet holding it (a hand held out, a person who changes
         # their mind): the robot lets go only when it feels the object taken, above.
-        if p.hand is None or p.palm is None or self._hand_near(p):
+        if p.hand is None or p.palm is None or _distance(p.hand, p.palm) <= FOLLOW_BEYOND:
             return
         if p.time - self._followed_at > FOLLOW_EVERY_S and not self._moving(p.time):
             self._follow(p)

@@ -31,7 +31,11 @@ so it closes a little short of the object's surface."""
 GRIP_DISTANCE = REACH_SHORT + 0.005
 """m from the hand's middle to the object's centre at which the hand closes on it: where it
 arrives (closing earlier, the hand went on 2 cm into the robot's fingers)."""
-TUG_S = 0.3  # s from closing the hand to drawing the object in
+TUG_S = 0.3  # s from closing the hand to the tug
+TUG = 0.06
+"""m the hand draws straight back toward the shoulder first: the tug a robot feels and lets
+go at (drawing the object all the way in at once swung the hand into the robot's fingers)."""
+DRAW_IN_S = 1.0  # s from the tug to drawing the object in
 HOLD_POINT = np.array([0.32, -0.12, -0.05])
 """Where the person brings the object, from the receiving shoulder (m, person frame): in front
 of the chest, a little toward the receiving side."""
@@ -41,6 +45,7 @@ class Receiving(enum.Enum):
     WAITING = "waiting"
     REACHING = "reaching"
     HOLDING = "holding"
+    TUGGING = "tugging"
     DRAWN_IN = "drawn in"
 
 
@@ -89,9 +94,13 @@ class Receiver:
             if np.linalg.norm(objects[target] - hand) <= GRIP_DISTANCE:
                 self.state, self.grip, self._gripped_at = Receiving.HOLDING, target, time
             return []
-        if time - self._gripped_at >= TUG_S:
+        shoulder = self._body.shoulder(self._params.arm)
+        if self.state is Receiving.HOLDING and time - self._gripped_at >= TUG_S:
+            self.state = Receiving.TUGGING
+            back = (shoulder - hand) / np.linalg.norm(shoulder - hand)
+            return [(time, self._posture(time, hand + TUG * back))]
+        if self.state is Receiving.TUGGING and time - self._gripped_at >= TUG_S + DRAW_IN_S:
             self.state = Receiving.DRAWN_IN
-            shoulder = self._body.shoulder(self._params.arm)
             return [(time, self._posture(time, shoulder + HOLD_POINT))]
         return []
 
