@@ -23,6 +23,7 @@ from hsr_handover.experiments.handover_scoring import TrialScore
 from hsr_handover.experiments.handover_trials import TIME_LIMIT_S, make_trials
 from hsr_handover.experiments.trials import TrialOutcome
 from hsr_handover.handover.cycle import Cycle, Failure, Phase
+from hsr_handover.handover.look_round import LOOK_ROUND_S
 from hsr_handover.human.body import BodyDimensions
 from hsr_handover.scenario import load_scenario
 from hsr_handover.station import person_pose
@@ -49,7 +50,11 @@ def test_trials_cycle_targets_end_with_refusals_and_repeat_for_a_seed(base):
         assert scenario.handover.enabled and scenario.perception.enabled
         assert scenario.simulation.duration == pytest.approx(trial.pointing_onset + TIME_LIMIT_S)
         low, high = base.person.variation.reaction_s
-        assert low <= trial.reaction_s <= high == pytest.approx(high)
+        assert low <= trial.reaction_s <= high
+        # The request comes once the robot has looked round the table.
+        look, point_at, *_ = scenario.person.behavior
+        assert look.start >= LOOK_ROUND_S + base.person.variation.onset_s[0]
+        assert point_at.start == pytest.approx(trial.pointing_onset)
 
 
 def test_a_hand_held_out_is_in_front_of_the_receiving_shoulder_after_the_request(base):
