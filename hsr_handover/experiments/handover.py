@@ -115,8 +115,9 @@ def _first_failure(
     events += [(at, name) for at, name in ((score.dropped, "dropped"),
                (score.table_contact, "table contact"), (score.person_contact, "person contact"))
                if not math.isnan(at)]  # fmt: skip
-    if cycle.failure is not None:
-        events.append((cycle.phase_times.get(Phase.FAILED.value, math.inf), cycle.failure.value))
+    if cycle.failure is not None:  # it failed on entering its retreat
+        at = cycle.phase_times.get(Phase.RETREAT.value, cycle.phase_times.get(Phase.FAILED.value))
+        events.append((at, cycle.failure.value))
     if not trial.takes:
         events = [event for event in events if event[1] not in ("timeout", "person withdrew")]
     events = [event for event in events if not event[0] >= complete]

@@ -15,6 +15,7 @@ import math
 
 from pydrake.systems.framework import Context, EventStatus
 
+from hsr_handover.experiments.true_clearance import HAND, PERSON, ROBOT, TABLE, geometry_owners
 from hsr_handover.simulation import Simulation
 
 LIFTED = 0.05  # m above where it stood: the object has been picked up
@@ -23,8 +24,6 @@ DROPPED = 0.01
 dropped (HandoverSim: not held, and touching the table or below it)."""
 CLEARANCE_EVERY_S = 0.05  # s between clearance measurements
 NEAR = 0.5  # m: distances beyond this are not measured
-
-ROBOT, TABLE, PERSON, HAND = "robot", "table", "person", "hand"
 
 
 @dataclasses.dataclass
@@ -53,7 +52,7 @@ class HandoverScorer:
         station = self._station = simulation.station
         self._plant, self._target = station.plant, target
         self.score = TrialScore()
-        self._owner = self._owners()
+        self._owner = geometry_owners(station)
         self._target_geometries = {g for g, owner in self._owner.items() if owner == target}
         self._bodies = {name: self._body(instance) for name, instance in station.objects.items()}
         self._start: dict[str, float] = {}
@@ -63,21 +62,6 @@ class HandoverScorer:
 
     def _body(self, instance):
         return self._plant.get_body(self._plant.GetBodyIndices(instance)[0])
-
-    def _owners(self) -> dict:
-        """Every collision geometry's owner: ROBOT, TABLE, PERSON, HAND (either hand) or the
-        object's name."""
-        station, plant = self._station, self._plant
-        instances = {station.robot: ROBOT, station.table: TABLE, station.person: PERSON}
-        instances.update({instance: name for name, instance in station.objects.items()})
-        owner = {}
-        for instance, name in instances.items():
-            for index in plant.GetBodyIndices(instance):
-                body = plant.get_body(index)
-                who = HAND if name == PERSON and body.name().endswith("hand") else name
-                for geometry in plant.GetCollisionGeometriesForBody(body):
-                    owner[geometry] = who
-        return owner
 
     def __call__(self, root: Context) -> EventStatus:
         time = root.get_time()
@@ -99,17 +83,14 @@ class HandoverScorer:
         return self._target in score.lifted and math.isnan(score.dropped + score.gripped)
 
     def _heights(self, time: float, plant_context) -> None:
-        score = self.score
+        score, heights = self.score, {}
         for name, body in self._bodies.items():
-            height = body.EvalPoseInWorld(plant_context).translation()[2]
+            height = heights[name] = body.EvalPoseInWorld(plant_context).translation()[2]
             start = self._start.setdefault(name, height)
             if name not in score.lifted and height > start + LIFTED:
                 score.lifted[name] = time
-        target = self._target
-        if self._carrying():
-            height = self._bodies[target].EvalPoseInWorld(plant_context).translation()[2]
-            if height < self._start[target] + DROPPED:
-                score.dropped = time
+        if self._carrying() and heights[self._target] < self._start[self._target] + DROPPED:
+            score.dropped = time
 
     def _contacts(self, time: float, plant_context) -> None:
         results = self._plant.get_contact_results_output_port().Eval(plant_context)

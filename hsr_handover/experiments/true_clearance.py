@@ -17,6 +17,23 @@ from hsr_handover.hsr import PALM_FRAME
 from hsr_handover.station.builder import Station
 
 NEAR = 0.5  # m: distances beyond this are not computed
+ROBOT, TABLE, PERSON, HAND = "robot", "table", "person", "hand"
+
+
+def geometry_owners(station: Station) -> dict:
+    """Every collision geometry's owner in the station: ROBOT, TABLE, PERSON, HAND (either of
+    the person's hands) or the object's scenario name."""
+    plant = station.plant
+    instances = {station.robot: ROBOT, station.table: TABLE, station.person: PERSON}
+    instances.update({instance: name for name, instance in station.objects.items()})
+    owner = {}
+    for instance, name in instances.items():
+        for index in plant.GetBodyIndices(instance):
+            body = plant.get_body(index)
+            who = HAND if name == PERSON and body.name().endswith("hand") else name
+            for geometry in plant.GetCollisionGeometriesForBody(body):
+                owner[geometry] = who
+    return owner
 
 
 class TrueClearance:
@@ -34,18 +51,10 @@ class TrueClearance:
         self._plant_context = station.diagram.GetMutableSubsystemContext(plant, self._context)
         self._slots = np.array([plant.GetJointByName(name, station.robot).position_start()
                                 for name in joint_names])  # fmt: skip
-        self._owner: dict = {}
-        names = {station.table: "table", station.person: "person"}
-        names.update({instance: name for name, instance in station.objects.items()})
-        for instance, name in names.items():
-            for body in plant.GetBodyIndices(instance):
-                for gid in plant.GetCollisionGeometriesForBody(plant.get_body(body)):
-                    self._owner[gid] = name
-        self._robot = {
-            gid
-            for body in plant.GetBodyIndices(station.robot)
-            for gid in plant.GetCollisionGeometriesForBody(plant.get_body(body))
-        }
+        owners = geometry_owners(station)
+        self._robot = {gid for gid, owner in owners.items() if owner == ROBOT}
+        self._owner = {gid: PERSON if owner == HAND else owner
+                       for gid, owner in owners.items() if owner != ROBOT}  # fmt: skip
         self._hand = plant.GetFrameByName(PALM_FRAME, station.robot).body()
         self._held = None  # (the object's body, its pose in the hand) while holding
 

@@ -380,6 +380,8 @@ class HandoverCycle:
         self._running, self._queue = None, []
         self._hold = (p.q, np.zeros_like(p.q))
         self._after_retreat = (phase, failure, reason)
+        # Known now, not only once folded: a run that ends mid-retreat still says why.
+        self.cycle.failure, self.cycle.reason = failure, reason
         held, let_go = (self._held, None) if holding else (None, self._held)
         planned = self._planner.retreat(p.q, held, let_go)
         self.cycle.planning_s += planned.seconds
