@@ -40,6 +40,13 @@ GRIPPER_MAX_OPENING = 0.137
 """Largest distance between the fingertips (m)."""
 FINGER_PER_OPENING = 0.5
 """Each finger travels half the opening between the fingertips."""
+GRIPPER_CAPSULES = {
+    "hand_l_finger_link": ((0.0, 0.01, 0.02), (0.0, 0.01, 0.08), 0.01),
+    "hand_r_finger_link": ((0.0, -0.01, 0.02), (0.0, -0.01, 0.08), 0.01),
+    "hand_palm_link": ((0.0, 0.0, -0.09), (0.0, 0.0, 0.0), 0.055),
+}
+"""The gripper as capsules in its links (ends and radius, m) round the SDF's collision boxes:
+each finger's pad and the palm."""
 
 
 def add_hsr(

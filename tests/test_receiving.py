@@ -9,20 +9,31 @@ from pydrake.math import RigidTransform
 from pydrake.multibody.math import SpatialVelocity
 from pydrake.systems.analysis import Simulator
 
+from hsr_handover.human.aiming import arm_points, reaching_arm_angles
+from hsr_handover.human.behavior import rest_posture
 from hsr_handover.human.body import BodyDimensions
 from hsr_handover.human.receiving import (
+    ARRIVED,
+    CLEAR,
     DRAW_IN_S,
     GRIP_DISTANCE,
+    REACH_SHORT,
+    SETTLE_AFTER_S,
     STILL_S,
+    TUG,
     TUG_S,
     Receiver,
     Receiving,
     ReceivingParams,
+    arm_indices,
+    path_clearance,
+    reach_point,
 )
 from hsr_handover.systems.hand_grip import GRIP_PERIOD, STIFFNESS, HandGrip
 
 BODY = BodyDimensions.from_height(1.7, seated=True)
 SHOULDER = BODY.shoulder("right")
+REST_ARM = rest_posture(BODY)[arm_indices("right")]
 ON_TABLE = SHOULDER + [0.9, 0.0, -0.3]  # out of reach, where it stood
 OFFERED = SHOULDER + [0.4, 0.05, -0.05]  # held out within reach
 
@@ -42,7 +53,8 @@ def test_an_object_held_out_still_within_reach_is_reached_for_after_the_reaction
     assert receiver.state is Receiving.REACHING and len(changes) == 1
     start, posture = changes[0]
     assert start == pytest.approx(0.1 + STILL_S + 0.4, abs=0.06)
-    assert posture.shape == (len(posture),) and np.all(np.isfinite(posture))
+    hand = arm_points(BODY, "right", posture[arm_indices("right")])["hand"]
+    np.testing.assert_allclose(hand, reach_point(BODY, "right", OFFERED), atol=0.01)
 
 
 def test_an_object_resting_where_it_stood_is_not_offered_even_within_reach():
@@ -52,13 +64,16 @@ def test_an_object_resting_where_it_stood_is_not_offered_even_within_reach():
     assert receiver.state is Receiving.WAITING
 
 
-def test_the_hand_closes_at_the_object_tugs_it_straight_back_then_draws_it_in():
-    receiver = Receiver(BODY, ReceivingParams())
+def test_the_hand_closes_where_it_arrives_tugs_then_draws_it_in_the_way_it_came():
+    receiver = Receiver(BODY, ReceivingParams(reaction_s=0.5))
     receiver.update(0.0, {"cup": ON_TABLE}, SHOULDER)
-    _offer(receiver, start=0.05)
-    far = OFFERED + [GRIP_DISTANCE + 0.02, 0, 0]
-    assert receiver.update(2.0, {"cup": OFFERED}, far) == [] and receiver.grip == ""
-    near = OFFERED + [GRIP_DISTANCE - 0.02, 0, 0]
+    _offer(receiver, start=0.05)  # the reach starts at about 0.9 s
+    point = reach_point(BODY, "right", OFFERED)
+    on_the_way = point + [-0.03, 0.0, -0.03]  # moving, nearer the object than it will be
+    for k, time in enumerate((1.0, 1.05, 1.1)):
+        receiver.update(time, {"cup": OFFERED}, on_the_way + [0.0, 0.0, 0.01 * k])
+    assert receiver.grip == "" and receiver.state is Receiving.REACHING
+    near = point + [ARRIVED / 2, 0.0, 0.0]
     receiver.update(2.05, {"cup": OFFERED}, near)
     assert receiver.state is Receiving.HOLDING and receiver.grip == "cup"
     assert receiver.update(2.05 + TUG_S / 2, {"cup": OFFERED}, near) == []
@@ -67,9 +82,57 @@ def test_the_hand_closes_at_the_object_tugs_it_straight_back_then_draws_it_in():
     assert receiver.update(2.06 + TUG_S + DRAW_IN_S / 2, {"cup": OFFERED}, near) == []
     (_, drawn_in), *rest = receiver.update(2.06 + TUG_S + DRAW_IN_S, {"cup": OFFERED}, near)
     assert rest == [] and receiver.state is Receiving.DRAWN_IN and receiver.grip == "cup"
-    # The tug is a small move of the arm; drawing the object in, a large one.
-    rest_posture = receiver._posture(0.0, near)
-    assert np.abs(tug - rest_posture).max() < np.abs(drawn_in - rest_posture).max()
+    away = (point - OFFERED) / np.linalg.norm(point - OFFERED)
+    tugged, drawn = (arm_points(BODY, "right", posture[arm_indices("right")])["hand"]
+                     for posture in (tug, drawn_in))  # fmt: skip
+    np.testing.assert_allclose(tugged, near + TUG * away, atol=0.01)
+    # Drawn in the same way as far as the folding arm allows (DRAW_IN is nearer the shoulder).
+    assert np.linalg.norm(drawn - OFFERED) > np.linalg.norm(tugged - OFFERED) + 0.05
+
+
+def test_a_hand_that_stops_short_closes_once_stopped_if_the_object_is_within_grip():
+    for stop, closes in ((GRIP_DISTANCE - 0.01, True), (GRIP_DISTANCE + 0.01, False)):
+        receiver = Receiver(BODY, ReceivingParams(reaction_s=0.0))
+        receiver.update(0.0, {"cup": ON_TABLE}, SHOULDER)
+        _offer(receiver, start=0.05)  # the reach starts at about 0.4 s
+        toward = (SHOULDER - OFFERED) / np.linalg.norm(SHOULDER - OFFERED)
+        stopped = OFFERED + stop * toward
+        receiver.update(0.5, {"cup": OFFERED}, stopped)
+        receiver.update(0.55, {"cup": OFFERED}, stopped)  # still, but not long into the reach
+        assert receiver.grip == ""
+        receiver.update(0.45 + SETTLE_AFTER_S, {"cup": OFFERED}, stopped)
+        receiver.update(0.5 + SETTLE_AFTER_S, {"cup": OFFERED}, stopped)
+        assert (receiver.grip == "cup") is closes
+
+
+def test_with_no_fingers_in_the_way_the_hand_comes_straight_from_the_shoulder():
+    point = reach_point(BODY, "right", OFFERED)
+    toward = (SHOULDER - OFFERED) / np.linalg.norm(SHOULDER - OFFERED)
+    np.testing.assert_allclose(point, OFFERED + REACH_SHORT * toward, atol=1e-9)
+
+
+def test_a_gripper_where_the_straight_reach_would_pass_sends_the_hand_round_it():
+    toward = (SHOULDER - OFFERED) / np.linalg.norm(SHOULDER - OFFERED)
+    straight = OFFERED + REACH_SHORT * toward
+    joints = arm_points(BODY, "right", reaching_arm_angles(straight - SHOULDER, BODY))
+    finger = (joints["tips"] - [0, 0, 0.03], joints["tips"] + [0, 0, 0.03], 0.01)
+    assert path_clearance(BODY, "right", REST_ARM, straight, [finger]) < CLEAR
+    point = reach_point(BODY, "right", OFFERED, [finger])
+    assert np.linalg.norm(point - OFFERED) == pytest.approx(REACH_SHORT)
+    assert path_clearance(BODY, "right", REST_ARM, point, [finger]) >= CLEAR
+
+
+def test_the_way_there_counts_not_only_the_end():
+    # A gripper capsule that the hand's final pose clears but the move from rest sweeps through.
+    toward = (SHOULDER - OFFERED) / np.linalg.norm(SHOULDER - OFFERED)
+    straight = OFFERED + REACH_SHORT * toward
+    goal = reaching_arm_angles(straight - SHOULDER, BODY)
+    halfway = arm_points(BODY, "right", (REST_ARM + goal) / 2)["tips"]
+    finger = (halfway - [0, 0, 0.02], halfway + [0, 0, 0.02], 0.01)
+    end = arm_points(BODY, "right", goal)
+    ends_clear = min(np.linalg.norm(end[k] - halfway) for k in ("elbow", "wrist", "tips"))
+    assert ends_clear > CLEAR + 0.03
+    assert path_clearance(BODY, "right", REST_ARM, straight, [finger]) < CLEAR
 
 
 def test_a_person_who_does_not_take_never_reaches():

@@ -66,7 +66,20 @@ for the object, and the robot holds still for it (following a hand that had just
 object pushed the gripper into it)."""
 PULL = 0.01
 """m the palm may be pulled off its commanded point, still, before the robot lets go: the
-person has hold of the object and draws it in (the arm's own sag is under 3 mm)."""
+person has hold of the object and draws it in (the arm's own sag is under 3 mm). Pulled so far
+while it moves toward the hand, the robot stops there and feels again."""
+SPREAD = 0.015
+"""m the fingers may be forced open beyond the object's width, while presenting, before the
+robot lets go: the person draws the object out between them (the gripper yields before the
+arm does, so the palm is not pulled)."""
+TAKEN_S = 1.0
+"""s after a hand was last seen at the object within which fingers that close on nothing mean
+the person drew it out (the wrist is soon farther off than REACH as the arm draws it in)."""
+PATIENCE_S = 6.0
+"""s the robot keeps trying a plan that finds no way, on fresh percepts, before it gives up: a
+pointing arm held over the object blocks every grasp until the person lowers it (6 of the
+reference run's 7 unreachable trials planned while the person still pointed)."""
+RETRY_EVERY_S = 1.0  # s between those tries
 FOLLOW_EVERY_S = 1.0  # s between tries to follow the hand (a hand out of reach fails each)
 WAIT_S = 12.0  # s the robot presents the object before it gives up (HandoverSim's 13 s limit)
 LOST_S = 2.0  # s without seeing the person while presenting: the person withdrew
@@ -174,12 +187,16 @@ class HandoverCycle:
         self._gripper = OPEN
         self._since = 0.0  # when the current wait began
         self._seen_at = 0.0  # when the person was last seen
+        self._hand_at_object = -math.inf  # when a hand was last seen at the object
+        self._held_width = math.inf  # the opening closed on the object
         self._followed_at = -math.inf  # when it last tried to follow the hand
         self._object_start: np.ndarray | None = None
         self._after_retreat: tuple[Phase, Failure | None, str] = (Phase.DONE, None, "")
         self._lift_motion: tuple[str, Motion] | None = None
         self._person: np.ndarray | None = None
         self._turned: float | None = None  # when it turned to the person, the object lifted
+        self._blocked: float | None = None  # when the plan now wanted first found no way
+        self._retry_at = -math.inf  # when to try that plan again
 
     def __deepcopy__(self, memo: dict) -> HandoverCycle:
         clone = copy.copy(self)
@@ -225,11 +242,15 @@ class HandoverCycle:
         return self.cycle
 
     def _watch(self, p: Percepts) -> None:
-        if p.target is None:
+        if self.cycle.target is None:
+            if p.target is None:
+                return
+            self.cycle.target, self.cycle.recognised_time = p.target, p.time
+            self._object_start = p.object_seen
+        if p.time < self._retry_at:
             return
-        self.cycle.target, self.cycle.recognised_time = p.target, p.time
-        self._object_start = p.object_seen
-        planned = self._plan(self._planner.grasp(p.target, p.q), p)
+        self._object_start = self._object_start if p.object_seen is None else p.object_seen
+        planned = self._plan(self._planner.grasp(self.cycle.target, p.q), p)
         if planned is None:
             return
         *reach, lift = planned.motions
@@ -250,6 +271,7 @@ class HandoverCycle:
         if p.opening < HELD_OPENING:
             self._fail_and_retreat(p, Failure.GRASP_MISSED, "the gripper closed on nothing")
             return
+        self._held_width = p.opening
         self._enter(Phase.LIFT, p.time)
         self._queue = [self._lift_motion]
 
@@ -263,7 +285,7 @@ class HandoverCycle:
                 self._fail_and_retreat(p, Failure.GRASP_MISSED, reason)
                 return
             self._turned = p.time  # the person in view again before planning the way there
-        if p.time - self._turned < LOOK_S:
+        if p.time - self._turned < LOOK_S or p.time < self._retry_at:
             return
         planned = self._plan(self._planner.carry(p.q, self._held), p, holding=True)
         if planned is not None:
@@ -279,11 +301,16 @@ class HandoverCycle:
     def _present(self, p: Percepts) -> None:
         if p.person is not None:
             self._seen_at = p.time
-        if p.pull > PULL and not self._moving(p.time):
-            self._let_go(p)
-            return
-        if p.opening < HELD_OPENING and self._hand_near(p):
-            self._let_go(p)  # the person drew it out of the fingers: it is theirs
+        if p.hand is not None and _distance(p.hand, p.palm) <= REACH:
+            self._hand_at_object = p.time
+        if p.pull > PULL:
+            if not self._moving(p.time):
+                self._let_go(p)
+                return
+            self._hold_still(p)  # a tug on the way to the hand: feel again standing still
+        drawn_out = p.opening < HELD_OPENING and p.time - self._hand_at_object <= TAKEN_S
+        if drawn_out or p.opening > self._held_width + SPREAD:
+            self._let_go(p)  # the person has it, drawn out of the fingers or through them
             return
         if self._dropped(p):
             return
@@ -302,14 +329,14 @@ class HandoverCycle:
         if p.time - self._followed_at > FOLLOW_EVERY_S and not self._moving(p.time):
             self._follow(p)
 
-    @staticmethod
-    def _hand_near(p: Percepts) -> bool:
-        return p.hand is not None and _distance(p.hand, p.palm) <= REACH
+    def _hold_still(self, p: Percepts) -> None:
+        """Drop any motion and stand where the joints are."""
+        self._running, self._queue = None, []
+        self._hold = (p.q, np.zeros_like(p.q))
 
     def _let_go(self, p: Percepts) -> None:
         self._gripper = min(OPEN, p.opening + LET_GO)
-        self._running, self._queue = None, []
-        self._hold = (p.q, np.zeros_like(p.q))
+        self._hold_still(p)
         self._enter(Phase.RELEASE, p.time)
 
     def _follow(self, p: Percepts) -> None:
@@ -338,10 +365,18 @@ class HandoverCycle:
     # Helpers ----------------------------------------------------------------------------------
 
     def _plan(self, planned: PlannedMotions, p: Percepts, holding: bool = False):
+        """The motions planned, or None: to be tried again after RETRY_EVERY_S, or, once the
+        plan has found no way for PATIENCE_S, failed as unreachable."""
         self.cycle.planning_s += planned.seconds
         if planned.ok:
+            self._blocked = None
             return planned
-        self._fail_and_retreat(p, Failure.UNREACHABLE, planned.reason, holding=holding)
+        self._blocked = p.time if self._blocked is None else self._blocked
+        if p.time - self._blocked < PATIENCE_S:
+            self._retry_at = p.time + RETRY_EVERY_S
+            return None
+        reason = f"{planned.reason} (tried for {p.time - self._blocked:.0f} s)"
+        self._fail_and_retreat(p, Failure.UNREACHABLE, reason, holding=holding)
         return None
 
     def _moving(self, time: float) -> bool:
@@ -377,8 +412,7 @@ class HandoverCycle:
     def _retreat_then(self, p, phase: Phase, failure, reason: str, holding: bool) -> None:
         """Retreat to the ready posture, then end in `phase`; end there at once if no retreat
         can be planned (the robot then stands where it is)."""
-        self._running, self._queue = None, []
-        self._hold = (p.q, np.zeros_like(p.q))
+        self._hold_still(p)
         self._after_retreat = (phase, failure, reason)
         # Known now, not only once folded: a run that ends mid-retreat still says why.
         self.cycle.failure, self.cycle.reason = failure, reason

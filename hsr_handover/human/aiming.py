@@ -85,13 +85,16 @@ def reaching_arm_angles(shoulder_to_target: np.ndarray, body: BodyDimensions) ->
 
 
 def arm_points(body: BodyDimensions, side: str, angles: np.ndarray) -> dict[str, np.ndarray]:
-    """Elbow, wrist and hand-centre positions in the person frame for arm joint angles; the
-    forward kinematics that the aiming functions invert (used by tests and by the actor)."""
-    pitch, roll, yaw, elbow, _ = angles
+    """Elbow, wrist and hand-centre positions in the person frame for arm joint angles (the
+    forward kinematics that the aiming functions invert, with the wrist straight), and the
+    fingertips' `tips` with the wrist as it is (used by tests and by the actor)."""
+    pitch, roll, yaw, elbow, wrist_angle = angles
     hang = np.array([0.0, 0.0, -1.0])
     rot_upper = rot_y(pitch) @ rot_x(roll) @ rot_z(yaw)
     rot_fore = rot_upper @ rot_y(elbow)
     shoulder = body.shoulder(side)
     elbow_point = shoulder + body.upper_arm * rot_upper @ hang
     wrist = elbow_point + body.forearm * rot_fore @ hang
-    return {"elbow": elbow_point, "wrist": wrist, "hand": wrist + body.hand / 2 * rot_fore @ hang}
+    tips = wrist + body.hand * rot_fore @ rot_y(wrist_angle) @ hang
+    return {"elbow": elbow_point, "wrist": wrist, "hand": wrist + body.hand / 2 * rot_fore @ hang,
+            "tips": tips}  # fmt: skip

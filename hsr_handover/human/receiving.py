@@ -1,7 +1,9 @@
 """The person taking the object (issue 10, the world side): once the robot holds an object out
 within reach and still, the person reaches for it after a reaction time, closes the hand on it
 when the hand gets there and, a moment later, draws it in: the tug a robot feels and lets go at
-(a person does not wait to be told the gripper has opened).
+(a person does not wait to be told the gripper has opened). The hand comes at the object from
+the side the robot's fingers leave free, as people do: straight from the shoulder when it can,
+else turned round the object, from below or from above.
 
 The person is part of the world: it may know where the objects and the robot's fingers truly
 are. Points here are in the person frame (`hsr_handover.station.world.person_pose`).
@@ -11,11 +13,21 @@ from __future__ import annotations
 
 import dataclasses
 import enum
+import math
+from collections.abc import Sequence
 
 import numpy as np
+from scipy.spatial.distance import cdist
 
-from hsr_handover.human.behavior import REACHES, Action, target_posture
-from hsr_handover.human.body import BodyDimensions
+from hsr_handover.human.aiming import arm_points, reaching_arm_angles
+from hsr_handover.human.behavior import (
+    ARM_JOINT_SUFFIXES,
+    REACHES,
+    Action,
+    rest_posture,
+    target_posture,
+)
+from hsr_handover.human.body import PERSON_JOINTS, BodyDimensions
 
 STILL_SPEED = 0.05  # m/s: an object moving slower than this is being held out
 STILL_S = 0.3  # s it must stay still (and in reach) to count as offered
@@ -28,17 +40,36 @@ fingertips, which stand up to 5 cm past the object's centre when the gripper poi
 person (reaching for the centre, or for the object's near side, put the person's fingertips
 against the robot's). The hand's hold is a soft weld (`systems/hand_grip.py`), not friction,
 so it closes a little short of the object's surface."""
-GRIP_DISTANCE = REACH_SHORT + 0.005
-"""m from the hand's middle to the object's centre at which the hand closes on it: where it
-arrives (closing earlier, the hand went on 2 cm into the robot's fingers)."""
+ARRIVED = 0.02
+"""m from the point reached for at which the hand closes on the object: it closes where it
+arrives (closing on the way, by its distance to the object, latched the object 5 cm off and
+dragged it up out of the robot's fingers into them)."""
+SETTLED = 0.002  # m a hand moves between two looks once it has stopped short of the point
+SETTLE_AFTER_S = 0.3  # s into the reach before a hand at rest counts as stopped
+GRIP_DISTANCE = REACH_SHORT + 0.05
+"""m from the hand's middle to the object's centre beyond which a stopped hand does not close
+(the object is not there)."""
+TURNS_DEG = (0.0, 30.0, -30.0, 60.0, -60.0, 90.0, -90.0)
+"""Degrees round the object, about the vertical, from straight between it and the shoulder."""
+TILTS_DEG = (0.0, -30.0, 30.0)  # level with the line to the shoulder, then from below, above
+PATH_SAMPLES = 8  # arm poses checked along the move to the object
+CLEAR = 0.05
+"""m from the forearm's and hand's axes to the robot's gripper (its capsules): half the hand's
+8 cm width and a centimetre to spare."""
 TUG_S = 0.3  # s from closing the hand to the tug
 TUG = 0.06
-"""m the hand draws straight back toward the shoulder first: the tug a robot feels and lets
-go at (drawing the object all the way in at once swung the hand into the robot's fingers)."""
+"""m the hand draws back first, the way it came (out of the gripper's free side): the tug a
+robot feels and lets go at (drawing the object all the way in at once swung the hand into the
+robot's fingers; straight toward the shoulder, past a finger on that side, it pushed the
+fingers apart)."""
 DRAW_IN_S = 1.0  # s from the tug to drawing the object in
-HOLD_POINT = np.array([0.32, -0.12, -0.05])
-"""Where the person brings the object, from the receiving shoulder (m, person frame): in front
-of the chest, a little toward the receiving side."""
+DRAW_IN = 0.2
+"""m from where the hand closed that it draws the object in, the same way: clear of the
+robot's fingers (a fixed point in front of the chest was barely nearer than an object held out
+close, and the hand went back into the fingers)."""
+
+
+Capsule = tuple[np.ndarray, np.ndarray, float]  # two end points and a radius (m)
 
 
 class Receiving(enum.Enum):
@@ -71,6 +102,10 @@ class Receiver:
         self._last: dict[str, tuple[float, np.ndarray]] = {}
         self._first: dict[str, np.ndarray] = {}
         self._gripped_at = np.inf
+        self._reach_for: tuple[float, np.ndarray] | None = None  # (from when, hand's point)
+        self._away = np.zeros(3)  # the unit direction the hand came from, from the object
+        self._closed_at = np.zeros(3)  # where the hand closed
+        self._hand_before: np.ndarray | None = None
 
     @property
     def _reach(self) -> float:
@@ -81,30 +116,43 @@ class Receiver:
         time: float,
         objects: dict[str, np.ndarray],
         hand: np.ndarray,
+        gripper: Sequence[Capsule] = (),
+        posture: np.ndarray | None = None,
     ) -> list[tuple[float, np.ndarray]]:
-        """Advance at `time` on the objects' centres and the hand's middle (person frame);
-        returns the postures to move to, as (time, posture) pairs (empty when nothing
-        changes)."""
+        """Advance at `time` on the objects' centres, the hand's middle and the robot's
+        `gripper`, all in the person frame, and the person's `posture` now (PERSON_JOINTS
+        order; the rest posture if None); returns the postures to move to, as (time, posture)
+        pairs (empty when nothing changes)."""
         if not self._params.takes or self.state is Receiving.DRAWN_IN:
             return []
         if self.state is Receiving.WAITING:
-            return self._watch(time, objects)
+            posture = rest_posture(self._body) if posture is None else posture
+            return self._watch(time, objects, gripper, posture)
         if self.state is Receiving.REACHING:
-            target = self._offered[0]
-            if np.linalg.norm(objects[target] - hand) <= GRIP_DISTANCE:
-                self.state, self.grip, self._gripped_at = Receiving.HOLDING, target, time
+            self._close_on_arrival(time, objects[self._offered[0]], hand)
             return []
-        shoulder = self._body.shoulder(self._params.arm)
         if self.state is Receiving.HOLDING and time - self._gripped_at >= TUG_S:
             self.state = Receiving.TUGGING
-            back = (shoulder - hand) / np.linalg.norm(shoulder - hand)
-            return [(time, self._posture(time, hand + TUG * back))]
+            return [(time, self._posture(time, self._closed_at + TUG * self._away))]
         if self.state is Receiving.TUGGING and time - self._gripped_at >= TUG_S + DRAW_IN_S:
             self.state = Receiving.DRAWN_IN
-            return [(time, self._posture(time, shoulder + HOLD_POINT))]
+            return [(time, self._posture(time, self._closed_at + DRAW_IN * self._away))]
         return []
 
-    def _watch(self, time: float, objects: dict[str, np.ndarray]) -> list:
+    def _close_on_arrival(self, time: float, target: np.ndarray, hand: np.ndarray) -> None:
+        since, point = self._reach_for
+        before, self._hand_before = self._hand_before, hand
+        arrived = np.linalg.norm(hand - point) <= ARRIVED
+        stopped = (
+            before is not None
+            and time >= since + SETTLE_AFTER_S
+            and np.linalg.norm(hand - before) <= SETTLED
+        )
+        if (arrived or stopped) and np.linalg.norm(hand - target) <= GRIP_DISTANCE:
+            self.state, self.grip, self._gripped_at = Receiving.HOLDING, self._offered[0], time
+            self._closed_at = hand
+
+    def _watch(self, time: float, objects: dict[str, np.ndarray], gripper, posture) -> list:
         shoulder = self._body.shoulder(self._params.arm)
         still = None
         for name, point in objects.items():
@@ -125,10 +173,78 @@ class Receiver:
             return []
         self.state = Receiving.REACHING
         start = time + self._params.reaction_s
-        toward = shoulder - objects[still]
-        reach = objects[still] + REACH_SHORT * toward / np.linalg.norm(toward)
+        arm = posture[arm_indices(self._params.arm)]
+        reach = reach_point(self._body, self._params.arm, objects[still], gripper, arm)
+        self._reach_for = (start, reach)
+        self._away = (reach - objects[still]) / np.linalg.norm(reach - objects[still])
         return [(start, self._posture(start, reach))]
 
     def _posture(self, time: float, point: np.ndarray) -> np.ndarray:
         action = Action(REACHES[0], time, None, np.asarray(point, dtype=float), self._params.arm)
         return target_posture(self._body, action)
+
+
+def arm_indices(arm: str) -> list[int]:
+    """The arm's joints' indices in PERSON_JOINTS, shoulder to wrist."""
+    prefix = "r_" if arm == "right" else "l_"
+    return [PERSON_JOINTS.index(prefix + suffix) for suffix in ARM_JOINT_SUFFIXES]
+
+
+def reach_point(
+    body: BodyDimensions,
+    arm: str,
+    centre: np.ndarray,
+    gripper: Sequence[Capsule] = (),
+    start: np.ndarray | None = None,
+) -> np.ndarray:
+    """Where the hand's middle goes to take the object at `centre` (person frame): REACH_SHORT
+    short of it, from the first side (TILTS_DEG, then TURNS_DEG, from straight at the
+    shoulder) whose move there from the arm's `start` angles (the rest posture's if None)
+    keeps the forearm and hand CLEAR of the robot's `gripper`; the clearest when none does."""
+    if start is None:
+        start = rest_posture(body)[arm_indices(arm)]
+    shoulder = body.shoulder(arm)
+    toward = (shoulder - centre) / np.linalg.norm(shoulder - centre)
+    heading = math.atan2(toward[1], toward[0])
+    level = math.asin(float(np.clip(toward[2], -1.0, 1.0)))
+    best: tuple[float, np.ndarray] | None = None
+    for tilt in np.radians(TILTS_DEG):
+        for turn in np.radians(TURNS_DEG):
+            elevation, bearing = level + tilt, heading + turn
+            flat = math.cos(elevation)
+            side = [flat * math.cos(bearing), flat * math.sin(bearing), math.sin(elevation)]
+            point = centre + REACH_SHORT * np.array(side)
+            clearance = path_clearance(body, arm, start, point, gripper)
+            if clearance >= CLEAR:
+                return point
+            if best is None or clearance > best[0]:
+                best = (clearance, point)
+    return best[1]
+
+
+def path_clearance(
+    body: BodyDimensions,
+    arm: str,
+    start: np.ndarray,
+    point: np.ndarray,
+    gripper: Sequence[Capsule],
+) -> float:
+    """m from the forearm and hand (axes, elbow to fingertips) to the gripper's capsules over
+    the arm's move from joint angles `start` to the hand's middle at `point` (a straight line
+    in joint space, as the actor moves)."""
+    if not gripper:
+        return math.inf
+    goal = reaching_arm_angles(point - body.shoulder(arm), body)
+    limbs = []
+    for share in np.linspace(0.0, 1.0, PATH_SAMPLES):
+        joints = arm_points(body, arm, start + share * (goal - start))
+        limbs.append(_samples(joints["elbow"], joints["wrist"]))
+        limbs.append(_samples(joints["wrist"], joints["tips"]))
+    limb = np.concatenate(limbs)
+    return min(float(cdist(limb, _samples(a, b)).min()) - radius for a, b, radius in gripper)
+
+
+def _samples(start: np.ndarray, end: np.ndarray, spacing: float = 0.01) -> np.ndarray:
+    """Points along a segment, `spacing` m apart or closer."""
+    count = max(2, int(np.ceil(np.linalg.norm(end - start) / spacing)) + 1)
+    return np.linspace(start, end, count)

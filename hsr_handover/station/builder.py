@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import dataclasses
 
+import numpy as np
 from pydrake.common.value import AbstractValue
 from pydrake.geometry import (
     MakeRenderEngineVtk,
@@ -34,7 +35,7 @@ from pydrake.systems.framework import Diagram, DiagramBuilder
 from pydrake.systems.primitives import ConstantValueSource
 
 from hsr_handover import interface
-from hsr_handover.hsr import actuated_joint_names, add_hsr
+from hsr_handover.hsr import GRIPPER_CAPSULES, actuated_joint_names, add_hsr
 from hsr_handover.human.behavior import PostureTimeline, posture_changes
 from hsr_handover.human.body import PERSON_JOINTS, BodyDimensions
 from hsr_handover.human.receiving import Receiver
@@ -109,14 +110,18 @@ def _person_timeline(
     return timeline
 
 
-def _add_person(builder, plant, person, objects, body, timeline, scenario) -> None:
+def _add_person(builder, plant, robot, person, objects, body, timeline, scenario) -> None:
     """The person's actor (the script, and taking what the robot holds out) and the hand's
     grip on what it takes."""
     params = scenario.person.receiving.params()
     side = "r_" if params.arm == "right" else "l_"
     hand = int(plant.GetBodyByName(f"{side}hand", person).index())
     bodies = {name: int(plant.GetBodyIndices(instance)[0]) for name, instance in objects.items()}
-    world = WorldBodies(hand, body.hand / 2, bodies, person_pose(scenario))
+    gripper = tuple(
+        (int(plant.GetBodyByName(link, robot).index()), np.array(start), np.array(end), radius)
+        for link, (start, end, radius) in GRIPPER_CAPSULES.items()
+    )
+    world = WorldBodies(hand, body.hand / 2, bodies, person_pose(scenario), gripper)
     actor = builder.AddNamedSystem(
         "human_actor",
         HumanActor(timeline, actuated_joint_names(plant, person), Receiver(body, params), world),
@@ -196,7 +201,7 @@ def build_station(scenario: Scenario, meshcat: Meshcat | None = None) -> Station
     timeline = _person_timeline(plant, person, body, scenario)
     plant.Finalize()
     scene_graph.collision_filter_manager().Apply(floor_filter(plant, floor, (robot, person)))
-    _add_person(builder, plant, person, objects, body, timeline, scenario)
+    _add_person(builder, plant, robot, person, objects, body, timeline, scenario)
     add_hsr_interface(builder, plant, robot)
     scene_graph.AddRenderer(RENDERER, MakeRenderEngineVtk(render_params()))
     _add_sensors(builder, plant, scene_graph, robot, person, scenario)

@@ -93,9 +93,10 @@ class HandoverSupervisor(LeafSystem):
                                   | {GRIPPER_KEY: opening})  # fmt: skip
         q = self._robot.positions()
         target = self._intent.Eval(context).target
+        wanted = cycle.cycle.target or target  # what it is fetching, once it has begun
         seen = None
         for detection in self._detections.Eval(context).detections:
-            if detection.label == target and np.all(np.isfinite(detection.center)):
+            if detection.label == wanted and np.all(np.isfinite(detection.center)):
                 seen = np.asarray(detection.center, dtype=float)
         person = None if arm is None else arm.shoulder
         palm = self._planner.palm(q)

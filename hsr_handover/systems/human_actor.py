@@ -20,13 +20,14 @@ RECEIVING_PERIOD = 0.05  # s between the person's looks at the world while waiti
 @dataclasses.dataclass(frozen=True)
 class WorldBodies:
     """Where the receiving person looks in the plant's body poses: its hand (the hand's middle
-    `hand_middle` m below the hand body's origin, the wrist), the objects by name, and the
-    person frame's pose `X_WP`."""
+    `hand_middle` m below the hand body's origin, the wrist), the objects by name, the person
+    frame's pose `X_WP`, and the robot's `gripper` (capsules: body, two ends in it, radius)."""
 
     hand: int
     hand_middle: float
     objects: dict[str, int]
     X_WP: RigidTransform
+    gripper: tuple[tuple[int, np.ndarray, np.ndarray, float], ...] = ()
 
 
 @dataclasses.dataclass
@@ -78,8 +79,12 @@ class HumanActor(LeafSystem):
         objects = {name: X_PW @ poses[index].translation()
                    for name, index in world.objects.items()}  # fmt: skip
         hand = X_PW @ (poses[world.hand] @ np.array([0.0, 0.0, -world.hand_middle]))
-        for start, posture in acting.receiver.update(context.get_time(), objects, hand):
-            acting.timeline = acting.timeline.interrupted(start, posture)
+        gripper = [(X_PW @ (poses[body] @ start), X_PW @ (poses[body] @ end), radius)
+                   for body, start, end, radius in world.gripper]  # fmt: skip
+        time = context.get_time()
+        posture, _ = acting.timeline.evaluate(time)
+        for start, goal in acting.receiver.update(time, objects, hand, gripper, posture):
+            acting.timeline = acting.timeline.interrupted(start, goal)
 
     def _calc_desired_state(self, context: Context, output: BasicVector) -> None:
         timeline = context.get_abstract_state(self._acting).get_value().timeline

@@ -15,8 +15,12 @@ from hsr_handover.handover.cycle import (
     LOST_S,
     OFFER,
     OPEN,
+    PATIENCE_S,
     REACH,
+    RETRY_EVERY_S,
     SETTLE_S,
+    SPREAD,
+    TAKEN_S,
     WAIT_S,
     Failure,
     HandoverCycle,
@@ -45,11 +49,12 @@ class Planner:
     """Plans straight lines between fixed configurations; records what it was asked."""
 
     grasp_ok: bool = True
+    grasp_failures: int = 0  # grasps that find no way before one does
     asked: list = dataclasses.field(default_factory=list)
 
     def grasp(self, label, q):
         self.asked.append(("grasp", label))
-        if not self.grasp_ok:
+        if not self.grasp_ok or len(self.asked) <= self.grasp_failures:
             return PlannedMotions(False, "unreachable: no base pose reaches it", seconds=0.2)
         motions = (("move", Line(q, q + 1)), ("approach", Line(q + 1, q + 2)),
                    ("lift", Line(q + 2, q + 3)))  # fmt: skip
@@ -169,11 +174,28 @@ def test_lifted_it_looks_at_the_person_before_planning_the_carry():
     assert record.phase_times["carry"] - record.phase_times["lift"] >= 1.0 + LOOK_S
 
 
-def test_an_unreachable_target_fails_with_the_planners_reason():
+def test_an_unreachable_target_fails_with_the_planners_reason_once_patience_runs_out():
     world = World(Planner(grasp_ok=False))
     world.target = "yellow"
     record = world.until(Phase.FAILED)
     assert record.failure is Failure.UNREACHABLE and "no base pose" in record.reason
+    waited = record.phase_times["retreat"] - record.recognised_time
+    assert PATIENCE_S <= waited < PATIENCE_S + RETRY_EVERY_S + TICK
+    tries = len(world.planner.asked) - 1  # the last ask is the retreat
+    assert tries == pytest.approx(PATIENCE_S / RETRY_EVERY_S + 1, abs=1)
+
+
+def test_a_grasp_blocked_for_a_while_is_tried_again_and_fetched_though_the_intent_moved_on():
+    world = World(Planner(grasp_failures=2))
+    world.target = "yellow"
+    world.tick(TICK)
+    world.target = None  # the estimator no longer reports it: the request stands
+    record = world.until(Phase.APPROACH)
+    assert record.target == "yellow" and record.failure is None
+    assert world.planner.asked == [("grasp", "yellow")] * 3
+    assert record.phase_times["approach"] - record.recognised_time == pytest.approx(
+        2 * RETRY_EVERY_S, abs=TICK + 1e-9
+    )
 
 
 def test_a_gripper_closed_on_nothing_is_a_missed_grasp():
@@ -240,12 +262,50 @@ def test_a_hand_held_out_elsewhere_is_followed():
     assert world.cycle.command(world.time + 0.25)[0] is not None
 
 
+def test_a_tug_while_following_the_hand_stops_the_arm_and_then_it_lets_go():
+    world = _presenting()
+    world.hand = world.palm + [0.0, 0.5, 0.0]
+    world.tick()
+    assert world.planner.asked[-1][0] == "follow"
+    world.pull = 0.02  # taken hold of on the way
+    world.tick()
+    assert world.cycle.cycle.phase is Phase.PRESENT
+    q = world.q.copy()
+    np.testing.assert_allclose(world.cycle.command(world.time + 0.3)[0], q)  # stopped there
+    world.tick()  # still pulled, standing still
+    assert world.cycle.cycle.phase is Phase.RELEASE
+
+
 def test_an_object_drawn_out_of_the_fingers_by_a_hand_at_it_is_handed_over_not_dropped():
     world = _presenting()
     world.hand = world.palm + [0.0, 0.0, REACH - 0.02]
+    world.tick()
+    world.hand = world.palm + [0.0, 0.0, REACH + 0.2]  # the arm draws it in
+    world.tick(TAKEN_S - 2 * TICK)
     world.opening = 0.0  # pulled out before the robot had let go
     world.tick()
     assert world.cycle.cycle.phase is Phase.RELEASE and world.cycle.cycle.failure is None
+
+
+def test_fingers_forced_apart_by_the_object_drawn_through_them_make_it_let_go():
+    world = _presenting()  # closed on 6 cm
+    world.opening = 0.06 + SPREAD / 2  # the pads give a little as it is held out
+    world.tick(1.0)
+    assert world.cycle.cycle.phase is Phase.PRESENT
+    world.opening = 0.06 + 2 * SPREAD
+    world.tick()
+    assert world.cycle.cycle.phase is Phase.RELEASE and world.cycle.cycle.failure is None
+
+
+def test_fingers_closing_with_no_hand_at_the_object_lately_is_a_drop():
+    world = _presenting()
+    world.hand = world.palm + [0.0, 0.0, REACH - 0.02]
+    world.tick()
+    world.hand = world.palm + [0.0, 0.0, REACH + 0.2]
+    world.tick(TAKEN_S + TICK)
+    world.opening = 0.0
+    record = world.until(Phase.FAILED)
+    assert record.failure is Failure.DROPPED
 
 
 def test_a_copy_steps_on_its_own():

@@ -8,7 +8,7 @@ import pytest
 from pydrake.systems.analysis import Simulator
 
 from hsr_handover.effectivity.arm_map import load_or_build
-from hsr_handover.handover.cycle import Failure, Phase
+from hsr_handover.handover.cycle import PATIENCE_S, Failure, Phase
 from hsr_handover.handover.look_round import LOOK_AROUND_PANS, LOOK_DWELL_S, LOOK_ROUND_S
 from hsr_handover.hsr import COMMANDED_JOINTS
 from hsr_handover.intent import IntentState
@@ -55,7 +55,7 @@ def test_it_looks_round_the_table_then_holds_the_ready_posture(supervisor):
 def test_a_request_for_an_object_it_never_perceived_fails_as_unreachable(supervisor):
     system, context, ready = supervisor
     system.GetInputPort("intent").FixValue(context, IntentState(target="purple"))
-    Simulator(system, context).AdvanceTo(LOOK_ROUND_S + 1.0)
+    Simulator(system, context).AdvanceTo(LOOK_ROUND_S + PATIENCE_S + 1.0)
     cycle = system.GetOutputPort("cycle").Eval(context)
     assert cycle.phase is Phase.FAILED and cycle.failure is Failure.UNREACHABLE
     assert cycle.target == "purple" and "purple" in cycle.reason
