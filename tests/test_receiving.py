@@ -11,7 +11,7 @@ from pydrake.systems.analysis import Simulator
 
 from hsr_handover.human.aiming import arm_points, reaching_arm_angles
 from hsr_handover.human.behavior import rest_posture
-from hsr_handover.human.body import BodyDimensions
+from hsr_handover.human.body import BodyDimensions, arm_joint_indices
 from hsr_handover.human.receiving import (
     ARRIVED,
     CLEAR,
@@ -25,7 +25,6 @@ from hsr_handover.human.receiving import (
     Receiver,
     Receiving,
     ReceivingParams,
-    arm_indices,
     path_clearance,
     reach_point,
 )
@@ -33,7 +32,7 @@ from hsr_handover.systems.hand_grip import GRIP_PERIOD, STIFFNESS, HandGrip
 
 BODY = BodyDimensions.from_height(1.7, seated=True)
 SHOULDER = BODY.shoulder("right")
-REST_ARM = rest_posture(BODY)[arm_indices("right")]
+REST_ARM = rest_posture(BODY)[arm_joint_indices("right")]
 ON_TABLE = SHOULDER + [0.9, 0.0, -0.3]  # out of reach, where it stood
 OFFERED = SHOULDER + [0.4, 0.05, -0.05]  # held out within reach
 
@@ -53,7 +52,7 @@ def test_an_object_held_out_still_within_reach_is_reached_for_after_the_reaction
     assert receiver.state is Receiving.REACHING and len(changes) == 1
     start, posture = changes[0]
     assert start == pytest.approx(0.1 + STILL_S + 0.4, abs=0.06)
-    hand = arm_points(BODY, "right", posture[arm_indices("right")])["hand"]
+    hand = arm_points(BODY, "right", posture[arm_joint_indices("right")])["hand"]
     np.testing.assert_allclose(hand, reach_point(BODY, "right", OFFERED), atol=0.01)
 
 
@@ -83,7 +82,7 @@ def test_the_hand_closes_where_it_arrives_tugs_then_draws_it_in_the_way_it_came(
     (_, drawn_in), *rest = receiver.update(2.06 + TUG_S + DRAW_IN_S, {"cup": OFFERED}, near)
     assert rest == [] and receiver.state is Receiving.DRAWN_IN and receiver.grip == "cup"
     away = (point - OFFERED) / np.linalg.norm(point - OFFERED)
-    tugged, drawn = (arm_points(BODY, "right", posture[arm_indices("right")])["hand"]
+    tugged, drawn = (arm_points(BODY, "right", posture[arm_joint_indices("right")])["hand"]
                      for posture in (tug, drawn_in))  # fmt: skip
     np.testing.assert_allclose(tugged, near + TUG * away, atol=0.01)
     # Drawn in the same way as far as the folding arm allows (DRAW_IN is nearer the shoulder).

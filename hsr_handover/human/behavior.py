@@ -20,9 +20,9 @@ from hsr_handover.human.aiming import (
     rot_z,
 )
 from hsr_handover.human.body import (
-    ARM_JOINT_SUFFIXES,
     PERSON_JOINTS,
     BodyDimensions,
+    arm_joint_indices,
     side_sign,
 )
 
@@ -117,14 +117,13 @@ def target_posture(body: BodyDimensions, action: Action) -> np.ndarray:
         rest = q[neck].copy()
         q[neck] = rest + action.head_fraction * (aim_head(body, action.point) - rest)
     if action.kind in ("point_at", *REACHES):
-        prefix = "r_" if action.arm == "right" else "l_"
         aimed = action.point if action.arm_point is None else action.arm_point
         to_target = aimed - body.shoulder(action.arm)
         if action.kind == "point_at":
             arm = pointing_arm_angles(to_target)
         else:
             arm = reaching_arm_angles(to_target, body)
-        q[[_INDEX[prefix + s] for s in ARM_JOINT_SUFFIXES]] = arm
+        q[arm_joint_indices(action.arm)] = arm
     lower, upper = np.array([joint_limits(name) for name in PERSON_JOINTS]).T
     return np.clip(q, lower, upper)
 
@@ -173,9 +172,8 @@ def _lift_then_stretch(action: Action, end: float, before: np.ndarray, goal: np.
 def _gesture_beats(body: BodyDimensions, action: Action, end: float):
     """Talking with the hands: the forearm swings up and out and back every GESTURE_BEAT_S,
     the elbow bent (never a straight, pointing arm), until `end` (at most a minute of beats)."""
-    prefix = "r_" if action.arm == "right" else "l_"
     sign = side_sign(action.arm)
-    joints = [_INDEX[prefix + s] for s in ARM_JOINT_SUFFIXES]
+    joints = arm_joint_indices(action.arm)
     beats = []
     for beat in range(int(min(end - action.start, 60.0) / GESTURE_BEAT_S) + 1):
         q = rest_posture(body)

@@ -27,6 +27,12 @@ PERSON_JOINTS = (
 )
 
 
+def arm_joint_indices(side: str) -> list[int]:
+    """The `side` ("left" or "right") arm's joints' indices in PERSON_JOINTS, shoulder to wrist."""
+    prefix = "r_" if side == "right" else "l_"
+    return [PERSON_JOINTS.index(prefix + suffix) for suffix in ARM_JOINT_SUFFIXES]
+
+
 def side_sign(side: str) -> float:
     """+1 for the person's left, -1 for the right (y points to the person's left)."""
     if side not in ("left", "right"):

@@ -20,14 +20,8 @@ import numpy as np
 from scipy.spatial.distance import cdist
 
 from hsr_handover.human.aiming import arm_points, reaching_arm_angles
-from hsr_handover.human.behavior import (
-    ARM_JOINT_SUFFIXES,
-    REACHES,
-    Action,
-    rest_posture,
-    target_posture,
-)
-from hsr_handover.human.body import PERSON_JOINTS, BodyDimensions
+from hsr_handover.human.behavior import REACHES, Action, rest_posture, target_posture
+from hsr_handover.human.body import BodyDimensions, arm_joint_indices
 
 STILL_SPEED = 0.05  # m/s: an object moving slower than this is being held out
 STILL_S = 0.3  # s it must stay still (and in reach) to count as offered
@@ -173,7 +167,7 @@ class Receiver:
             return []
         self.state = Receiving.REACHING
         start = time + self._params.reaction_s
-        arm = posture[arm_indices(self._params.arm)]
+        arm = posture[arm_joint_indices(self._params.arm)]
         reach = reach_point(self._body, self._params.arm, objects[still], gripper, arm)
         self._reach_for = (start, reach)
         self._away = (reach - objects[still]) / np.linalg.norm(reach - objects[still])
@@ -182,12 +176,6 @@ class Receiver:
     def _posture(self, time: float, point: np.ndarray) -> np.ndarray:
         action = Action(REACHES[0], time, None, np.asarray(point, dtype=float), self._params.arm)
         return target_posture(self._body, action)
-
-
-def arm_indices(arm: str) -> list[int]:
-    """The arm's joints' indices in PERSON_JOINTS, shoulder to wrist."""
-    prefix = "r_" if arm == "right" else "l_"
-    return [PERSON_JOINTS.index(prefix + suffix) for suffix in ARM_JOINT_SUFFIXES]
 
 
 def reach_point(
@@ -202,7 +190,7 @@ def reach_point(
     shoulder) whose move there from the arm's `start` angles (the rest posture's if None)
     keeps the forearm and hand CLEAR of the robot's `gripper`; the clearest when none does."""
     if start is None:
-        start = rest_posture(body)[arm_indices(arm)]
+        start = rest_posture(body)[arm_joint_indices(arm)]
     shoulder = body.shoulder(arm)
     toward = (shoulder - centre) / np.linalg.norm(shoulder - centre)
     heading = math.atan2(toward[1], toward[0])
