@@ -59,6 +59,9 @@ def _add_trial_arguments(parser) -> None:
     parser.add_argument("--csv", type=Path, help="one row per trial (.csv)")
     parser.add_argument("--json", type=Path, help="summary (.json)")
     parser.add_argument("--plot", type=Path, help="figure beside the paper's figures (.png)")
+    parser.add_argument(
+        "--html-dir", type=Path, help="a replay per trial, named by trial and outcome"
+    )
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -107,6 +110,21 @@ def _output_path(path: Path | None, option: str, suffix: str) -> Path | None:
         raise UsageError(f"{option}: expected an existing directory, {str(directory)!r} is not one")
     if not os.access(directory, os.W_OK):
         raise UsageError(f"{option}: expected a writable directory, {str(directory)!r} is not")
+    return path
+
+
+def _replay_dir(path: Path | None) -> Path | None:
+    """Check --html-dir before anything runs: an existing writable directory, or one to make
+    in an existing writable directory (made only once every check has passed)."""
+    if path is None:
+        return None
+    if path.exists() and not path.is_dir():
+        raise UsageError(f"--html-dir: expected a directory, {str(path)!r} is a file")
+    existing = path if path.is_dir() else (path.parent if str(path.parent) else Path("."))
+    if not existing.is_dir():
+        raise UsageError(f"--html-dir: expected an existing parent directory for {str(path)!r}")
+    if not os.access(existing, os.W_OK):
+        raise UsageError(f"--html-dir: expected a writable directory, {str(existing)!r} is not")
     return path
 
 
@@ -267,10 +285,13 @@ def _experiment(args: argparse.Namespace) -> int:
         "json": _output_path(args.json, "--json", ".json"),
         "plot": _output_path(args.plot, "--plot", ".png"),
     }
+    html_dir = _replay_dir(args.html_dir)
     run, summarise, report = _experiment_kind(args.experiment)
+    if html_dir is not None:
+        html_dir.mkdir(exist_ok=True)
     experiment = run(
         scenario, args.trials, getattr(args, extra), args.seed, args.workers, args.ray_address,
-        TrialProgress(),
+        TrialProgress(), html_dir,
     )  # fmt: skip
     summary = summarise(experiment)
     writers = {

@@ -95,11 +95,37 @@ def _view_direction(target: np.ndarray, side: np.ndarray) -> np.ndarray:
     return np.array([*np.cos(ELEVATION) * turned, np.sin(ELEVATION)])
 
 
+WEBGL_MISSING = (
+    "This replay is drawn with WebGL, and this browser could not create a WebGL context. Turn "
+    "on hardware acceleration, or start Chromium with --use-angle=swiftshader "
+    "--enable-unsafe-swiftshader."
+)
+_WEBGL_NOTICE = f"""
+  <div id="webgl-missing" style="display: none; font: 16px sans-serif; margin: 2em;">
+    {WEBGL_MISSING}
+  </div>
+  <script>
+    (function () {{
+      var canvas = document.createElement("canvas");
+      if (!(canvas.getContext("webgl2") || canvas.getContext("webgl"))) {{
+        document.getElementById("webgl-missing").style.display = "block";
+      }}
+    }})();
+  </script>"""
+
+
+def with_webgl_notice(html: str) -> str:
+    """Meshcat's page with a notice, in words, shown when the browser has no WebGL (without
+    it the page stays blank: three.js throws before drawing anything)."""
+    body = html.index("<body>") + len("<body>")
+    return html[:body] + _WEBGL_NOTICE + html[body:]
+
+
 def write_replay(meshcat: Meshcat, path: Path) -> Path:
     """Stop recording and write the static HTML replay atomically: no partial file on failure."""
     meshcat.StopRecording()
     meshcat.PublishRecording()
-    html = meshcat.StaticHtml()
+    html = with_webgl_notice(meshcat.StaticHtml())
     path = Path(path)
     handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:

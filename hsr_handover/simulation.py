@@ -28,6 +28,7 @@ from hsr_handover.replay import frame_view, make_local_meshcat, start_recording,
 from hsr_handover.robot import Robot, build_robot
 from hsr_handover.scenario import Scenario
 from hsr_handover.station import Station, build_station, check_initial_clearance
+from hsr_handover.systems.cycle_visualizer import CycleVisualizer
 from hsr_handover.systems.graph_visualizer import add_graph_visualizer
 
 ProgressCallback = Callable[[float, float], None]
@@ -84,7 +85,16 @@ def add_station_and_robot(
     connect_robot(builder, station.diagram, robot.diagram)
     if meshcat is not None and "gng_graph" in robot.perception_outputs:
         add_graph_visualizer(builder, robot.diagram.GetOutputPort("gng_graph"), meshcat)
+    if meshcat is not None and "plan_view" in robot.perception_outputs:
+        _add_cycle_visualizer(builder, robot.diagram, meshcat)
     return station, robot
+
+
+def _add_cycle_visualizer(builder: DiagramBuilder, robot: Diagram, meshcat: Meshcat) -> None:
+    """What the robot thinks over the run (rays, target, plans, maps), in the replay."""
+    visualizer = builder.AddNamedSystem("cycle_visualizer", CycleVisualizer(meshcat))
+    for name in ("intent", "intent_rays", "detections", "plan_view"):
+        builder.Connect(robot.GetOutputPort(name), visualizer.GetInputPort(name))
 
 
 def build_simulation(scenario: Scenario, meshcat: Meshcat | None = None) -> Simulation:

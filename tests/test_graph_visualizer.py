@@ -12,39 +12,12 @@ from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import Context, DiagramBuilder, LeafSystem
 
 from hsr_handover.perception.cloud_map import GraphSnapshot
-from hsr_handover.replay import make_local_meshcat, start_recording, write_replay
+from hsr_handover.replay import make_local_meshcat, start_recording
 from hsr_handover.systems.graph_visualizer import GraphVisualizer, add_graph_visualizer
-from tests.conftest import meshcat_commands
+from tests.conftest import hidden_paths, meshcat_commands, replay_commands, visibility_keys
 
 PATH = "/perception/gng"
 FPS = 20.0
-
-
-def replay_commands(meshcat: Meshcat, folder: Path) -> list[dict]:
-    """Stop the recording, write the replay HTML into `folder` and decode its commands."""
-    return meshcat_commands(write_replay(meshcat, folder / "replay.html").read_bytes())
-
-
-def hidden_paths(commands: list[dict]) -> set[str]:
-    """Paths whose last `visible` setting in the scene is False."""
-    visible = {
-        c["path"]: c["value"]
-        for c in commands
-        if c["type"] == "set_property" and c["property"] == "visible"
-    }
-    return {path for path, value in visible.items() if value is False}
-
-
-def visibility_keys(commands: list[dict]) -> dict[str, list[tuple[float, bool]]]:
-    """Each animated path's `visible` keyframes as (time s, value)."""
-    (animation,) = [c for c in commands if c["type"] == "set_animation"]
-    keys = {}
-    for entry in animation["animations"]:
-        clip = entry["clip"]
-        for track in clip["tracks"]:
-            if track["name"] == ".visible":
-                keys[entry["path"]] = [(k["time"] / clip["fps"], k["value"]) for k in track["keys"]]
-    return keys
 
 
 def random_graph(seed: int, n_nodes: int = 30, n_edges: int = 60) -> GraphSnapshot:

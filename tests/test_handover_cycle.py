@@ -5,33 +5,14 @@ the handover experiment's truth scorer watches it and judges it a clean handover
 from __future__ import annotations
 
 import numpy as np
-import pytest
 
 from hsr_handover.experiments.handover import judge
-from hsr_handover.experiments.handover_scoring import HandoverScorer
 from hsr_handover.experiments.handover_trials import HandoverTrial
 from hsr_handover.handover.cycle import Phase
-from hsr_handover.scenario import load_scenario
-from hsr_handover.simulation import run_scenario
-from tests.conftest import SCENARIOS
-
-
-@pytest.fixture(scope="module")
-def demo():
-    scenario = load_scenario(SCENARIOS / "demo.yaml")
-    return scenario, run_scenario(scenario, monitor_factory=_scorer)
-
-
-_scorers: list[HandoverScorer] = []
-
-
-def _scorer(simulation) -> HandoverScorer:
-    _scorers.append(HandoverScorer(simulation, "yellow_box"))
-    return _scorers[-1]
 
 
 def test_the_robot_hands_the_pointed_at_object_over(demo):
-    scenario, report = demo
+    scenario, report, _, _ = demo
     cycle = report.cycle
     assert cycle.phase is Phase.DONE, (cycle.failure, cycle.reason)
     assert cycle.target == "yellow"  # the box's colour: the robot names objects as it sees them
@@ -42,7 +23,7 @@ def test_the_robot_hands_the_pointed_at_object_over(demo):
 
 
 def test_the_box_ends_in_the_persons_hand_not_on_the_table(demo):
-    scenario, report = demo
+    scenario, report, _, _ = demo
     plant = report.simulation.station.plant
     context = plant.GetMyContextFromRoot(report.context)
     box = plant.GetBodyByName("yellow_box").EvalPoseInWorld(context).translation()
@@ -56,8 +37,7 @@ def test_the_box_ends_in_the_persons_hand_not_on_the_table(demo):
 
 
 def test_the_truth_judges_it_a_clean_handover(demo):
-    scenario, report = demo
-    score = _scorers[-1].score
+    scenario, report, score, _ = demo
     assert set(score.lifted) == {"yellow_box"}  # the box, and nothing else, was picked up
     release = report.cycle.phase_times["release"]
     assert report.cycle.phase_times["lift"] < score.lifted["yellow_box"] < release

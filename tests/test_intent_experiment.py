@@ -11,6 +11,7 @@ import sys
 import pytest
 
 from hsr_handover.cli import main
+from hsr_handover.experiments.experiment import replay_name
 from hsr_handover.experiments.intent import IntentExperiment, run_intent_trial, summarise
 from hsr_handover.experiments.intent_percepts import replay_intent
 from hsr_handover.experiments.intent_report import plot, summary_lines, write_csv
@@ -108,6 +109,24 @@ def test_bad_arguments_are_one_line_errors(capsys, arguments, expected):
     assert code == 2 and capsys.readouterr().err.strip() == f"error: {expected}"
 
 
+def test_a_replay_folder_that_is_a_file_or_has_no_parent_is_a_one_line_error(capsys, tmp_path):
+    scenario = str(SCENARIOS / "intent_reference.yaml")
+    afile = tmp_path / "replays"
+    afile.write_text("")
+    for folder, expected in ((afile, "is a file"), (tmp_path / "no" / "such", "parent")):
+        code = main(["experiment", "intent", scenario, "--html-dir", str(folder)])
+        error = capsys.readouterr().err.strip()
+        assert code == 2 and error.startswith("error: --html-dir:") and expected in error
+        assert "\n" not in error
+    assert not (tmp_path / "no").exists()
+
+
+def test_replay_names_say_the_trial_and_its_outcome():
+    assert replay_name(7, "person contact") == "trial_007_person-contact.html"
+    assert replay_name(12, "Wrong object!") == "trial_012_wrong-object.html"
+    assert replay_name(0, "") == "trial_000_unknown.html"
+
+
 def test_a_scenario_with_one_object_has_nothing_to_choose(capsys, write_scenario):
     def one_cup(data):
         data["objects"] = data["objects"][:1]
@@ -133,17 +152,20 @@ def test_the_command_runs_trials_in_parallel_and_writes_its_results(tmp_path):
     assert 0.0 <= summary["success_rate"] <= 1.0 and summary["wall_s"] > 0
 
 
-def test_one_trial_end_to_end_the_robot_names_the_cup_it_was_asked_for(base):
+def test_one_trial_end_to_end_the_robot_names_the_cup_it_was_asked_for(base, tmp_path):
     """Station, robot and recogniser together, on one request by an exact person; the recorded
-    percepts replayed offline reach the same recognition at the same time."""
+    percepts replayed offline reach the same recognition at the same time; the trial's replay
+    is kept under its outcome's name."""
     exact = copy.deepcopy(base)
     exact.person.imprecision = ImprecisionConfig(0.0, 1.0, 0.0)
     (trial,) = make_trials(exact, 1, 0, seed=11)
-    result = run_intent_trial(dataclasses.replace(trial, record_percepts=True))
+    spec = dataclasses.replace(trial, record_percepts=True, replay_dir=str(tmp_path))
+    result = run_intent_trial(spec)
     assert result["recognised"] == trial.target
     assert 0.5 <= result["latency_s"] <= 3.0
     offline = replay_intent(result["percepts"], exact.intent.params())
     assert offline.recognised_time == result["recognised_time_s"]
+    assert [path.name for path in tmp_path.iterdir()] == [replay_name(0, "recognised")]
 
 
 def test_a_failed_distractor_trial_does_not_lower_the_false_trigger_rate(base):

@@ -4,8 +4,11 @@ and settings, one row per trial whether it ran or crashed, and running them."""
 from __future__ import annotations
 
 import dataclasses
+import os
+import re
 import time
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 from hsr_handover.experiments.trials import Progress, TrialOutcome, run_trials
@@ -46,10 +49,14 @@ class TrialExperiment:
         workers: int | None,
         ray_address: str | None,
         progress: Progress | None,
+        html_dir: Path | None = None,
     ):
-        """Make the trials (`make_trials(base, *counts, seed)`) and run them."""
+        """Make the trials (`make_trials(base, *counts, seed)`) and run them; with `html_dir`,
+        each trial writes its replay there (`replay_name`)."""
         start = time.perf_counter()
         specs = make_trials(base, *counts, seed)
+        if html_dir is not None:
+            specs = [dataclasses.replace(spec, replay_dir=str(html_dir)) for spec in specs]
         outcomes = run_trials(run_trial, specs, workers, ray_address, progress)
         return cls(specs, outcomes, base, seed, time.perf_counter() - start)
 
@@ -57,3 +64,20 @@ class TrialExperiment:
 def rate(hits: int, count: int) -> float:
     """hits / count, NaN when there is nothing to count."""
     return hits / count if count else float("nan")
+
+
+def replay_name(index: int, outcome: str) -> str:
+    """A trial's replay file: `trial_007_person-contact.html` (index, then outcome)."""
+    slug = re.sub(r"[^a-z0-9]+", "-", outcome.lower()).strip("-") or "unknown"
+    return f"trial_{index:03d}_{slug}.html"
+
+
+def replay_while_running(replay_dir: str, index: int) -> Path | None:
+    """Where a trial writes its replay until its outcome is known (None: no replay asked)."""
+    return Path(replay_dir) / f".trial_{index:03d}.html" if replay_dir else None
+
+
+def name_replay(written: Path | None, index: int, outcome: str) -> None:
+    """Give a written replay its final name, by trial and outcome."""
+    if written is not None:
+        os.replace(written, written.parent / replay_name(index, outcome))

@@ -15,10 +15,16 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
+from pathlib import Path
 
 import numpy as np
 
-from hsr_handover.experiments.experiment import TrialExperiment, rate
+from hsr_handover.experiments.experiment import (
+    TrialExperiment,
+    name_replay,
+    rate,
+    replay_while_running,
+)
 from hsr_handover.experiments.handover_scoring import HandoverScorer, TrialScore
 from hsr_handover.experiments.handover_trials import TIME_LIMIT_S, HandoverTrial, make_trials
 from hsr_handover.experiments.trials import Progress
@@ -49,9 +55,12 @@ def run_handover_trial(trial: HandoverTrial) -> dict:
         scorers.append(HandoverScorer(simulation, trial.target))
         return scorers[-1]
 
-    report = run_scenario(trial.scenario, monitor_factory=scorer)
+    replay = replay_while_running(trial.replay_dir, trial.index)
+    report = run_scenario(trial.scenario, replay, monitor_factory=scorer)
     names = {obj.color: obj.name for obj in trial.scenario.objects}
     row = judge(trial, report.cycle or Cycle(), scorers[0].score, report.person_holds, names)
+    outcome = "handed over" if row["handed_over"] else row["failure"] or "refused, kept"
+    name_replay(report.replay, trial.index, outcome)
     person = trial.scenario.person
     return {
         **row, "seed": trial.scenario.simulation.seed, "person_height_m": person.height,
@@ -151,11 +160,13 @@ def run_handover_experiment(
     workers: int | None = None,
     ray_address: str | None = None,
     progress: Progress | None = None,
+    html_dir: Path | None = None,
 ) -> HandoverExperiment:
-    """Make and run the trials; `summarise` turns the result into the table."""
+    """Make and run the trials; `summarise` turns the result into the table. With `html_dir`,
+    a replay of each trial is written there, named by trial and outcome."""
     counts = (trials, refusals)
     return HandoverExperiment.run(make_trials, run_handover_trial, base, counts, seed, workers,
-                                  ray_address, progress)  # fmt: skip
+                                  ray_address, progress, html_dir)  # fmt: skip
 
 
 def _median(values: list[float]) -> float:

@@ -9,9 +9,12 @@ import matplotlib
 
 matplotlib.use("Agg")  # files only: no display on a robot's or CI's machine
 import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
 
-from hsr_handover.experiments.reporting import format_value, write_rows  # noqa: E402
+from hsr_handover.experiments.reporting import (  # noqa: E402
+    bars_beside_paper,
+    format_value,
+    write_rows,
+)
 
 CSV_COLUMNS = (
     "index", "target", "arm", "takes", "reaction_s", "held_out", "recognised", "retrieved",
@@ -61,25 +64,24 @@ def summary_lines(summary: dict) -> list[str]:
 
 
 def plot(summary: dict, path: Path) -> None:
-    """Left: retrieval and handover, ours beside the paper's. Right: failures by class."""
-    figure, (bars, failures) = plt.subplots(1, 2, figsize=(11, 4.2))
+    """Left: retrieval and handover, ours beside the paper's, each bar labelled. Right:
+    failures by class."""
+    figure, (bars, failures) = plt.subplots(1, 2, figsize=(11, 4.6))
     keys = ("retrieval_rate", "handover_rate")
-    x = np.arange(len(keys))
     ours = [100 * _nan_to_zero(summary[key]) for key in keys]
     paper = [100 * summary["paper"][key] for key in keys]
-    bars.bar(x - 0.2, ours, 0.4, label="ours (simulated)", color="tab:blue")
-    bars.bar(x + 0.2, paper, 0.4, label="paper (60 real trials)", color="tab:gray")
-    bars.set_xticks(x, ["retrieval", "handover"])
-    bars.set_ylim(0, 105)
+    bars_beside_paper(bars, ["retrieval", "handover"], ours, paper)
     bars.set_ylabel("trials (%)")
-    bars.set_title(f"Handover, {summary['trials']} requests")
-    bars.legend(loc="lower right")
+    bars.set_title(f"Handover, {summary['trials']} requests (HandoverSim's success)")
     counts = {name: count for name, count in summary["failures"].items() if count}
     names = list(counts) or ["none"]
     failures.barh(names, [counts.get(name, 0) for name in names], color="tab:red")
     failures.set_xlabel("trials")
     failures.set_title("Failures, first cause per trial")
     failures.invert_yaxis()
+    wall = summary.get("wall_s")
+    if wall:
+        figure.suptitle(f"{summary['trials']} requests in {wall / 60:.0f} min", fontsize="small")
     figure.tight_layout()
     figure.savefig(path, dpi=120)
     plt.close(figure)

@@ -34,8 +34,8 @@ left, up): the forearm out over the table's edge, the palm below the shoulder.""
 class HandoverTrial:
     """One trial, self-contained: its index, the object asked for, the arm pointing, when the
     pointing starts, whether the person takes the object (`takes`), the reaction time drawn,
-    where the hand is held out beforehand (world, m; empty when it is not) and the whole
-    scenario to run (its seed included)."""
+    where the hand is held out beforehand (world, m; empty when it is not), the whole
+    scenario to run (its seed included) and where to write its replay ("": none)."""
 
     index: int
     target: str
@@ -45,6 +45,7 @@ class HandoverTrial:
     reaction_s: float
     hold_out: tuple[float, ...]
     scenario: Scenario
+    replay_dir: str = ""
 
 
 def make_trials(base: Scenario, trials: int, refusals: int, seed: int) -> list[HandoverTrial]:

@@ -12,10 +12,16 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
+from pathlib import Path
 
 import numpy as np
 
-from hsr_handover.experiments.experiment import TrialExperiment, rate
+from hsr_handover.experiments.experiment import (
+    TrialExperiment,
+    name_replay,
+    rate,
+    replay_while_running,
+)
 from hsr_handover.experiments.intent_percepts import PerceptRecorder
 from hsr_handover.experiments.intent_trials import IntentTrial, make_trials, object_positions
 from hsr_handover.experiments.trials import Progress
@@ -39,11 +45,13 @@ def run_intent_trial(trial: IntentTrial) -> dict:
         return recorders[-1]
 
     monitor = recorder if trial.record_percepts else None
-    report = run_scenario(trial.scenario, monitor_factory=monitor)
+    replay = replay_while_running(trial.replay_dir, trial.index)
+    report = run_scenario(trial.scenario, replay, monitor_factory=monitor)
     robot = report.simulation.robot.diagram
     intent = robot.GetOutputPort("intent").Eval(report.simulation.robot_context(report.context))
     by_color = {obj.color: obj.name for obj in trial.scenario.objects}
     recognised = by_color.get(intent.target, intent.target) if intent.target else ""
+    name_replay(report.replay, trial.index, _outcome(trial, recognised))
     latency = intent.recognised_time - trial.pointing_onset if recognised else math.nan
     person = trial.scenario.person
     return {
@@ -56,6 +64,15 @@ def run_intent_trial(trial: IntentTrial) -> dict:
         "wall_s": time.perf_counter() - start,
         **({"percepts": recorders[0].frames} if recorders else {}),
     }  # fmt: skip
+
+
+def _outcome(trial: IntentTrial, recognised: str) -> str:
+    """A trial's outcome in a word or two, for its replay's name."""
+    if trial.kind != "request":
+        return f"{trial.kind} triggered" if recognised else f"{trial.kind} ignored"
+    if not recognised:
+        return "not recognised"
+    return "recognised" if recognised == trial.target else "wrong object"
 
 
 class IntentExperiment(TrialExperiment):
@@ -73,11 +90,13 @@ def run_intent_experiment(
     workers: int | None = None,
     ray_address: str | None = None,
     progress: Progress | None = None,
+    html_dir: Path | None = None,
 ) -> IntentExperiment:
-    """Make and run the trials; `summarise` turns the result into the paper's table."""
+    """Make and run the trials; `summarise` turns the result into the paper's table. With
+    `html_dir`, a replay of each trial is written there, named by trial and outcome."""
     counts = (trials, distractors)
     return IntentExperiment.run(make_trials, run_intent_trial, base, counts, seed, workers,
-                                ray_address, progress)  # fmt: skip
+                                ray_address, progress, html_dir)  # fmt: skip
 
 
 def summarise(experiment: IntentExperiment) -> dict:

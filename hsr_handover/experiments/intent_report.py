@@ -12,7 +12,11 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from hsr_handover.experiments.intent import POSITIONS  # noqa: E402
-from hsr_handover.experiments.reporting import format_value, write_rows  # noqa: E402
+from hsr_handover.experiments.reporting import (  # noqa: E402
+    bars_beside_paper,
+    format_value,
+    write_rows,
+)
 
 CSV_COLUMNS = (
     "index", "kind", "target", "arm", "recognised", "latency_s", "recognised_time_s",
@@ -50,17 +54,12 @@ def summary_lines(summary: dict) -> list[str]:
 def plot(summary: dict, path: Path) -> None:
     """Left: success by position, ours beside the paper's. Right: the confusion matrix."""
     figure, (bars, matrix) = plt.subplots(1, 2, figsize=(11, 4.2))
-    x = np.arange(len(POSITIONS))
     ours = [100 * summary["by_position"][side] for side in POSITIONS]
     paper = [100 * summary["paper_by_position"][side] for side in POSITIONS]
-    bars.bar(x - 0.2, ours, 0.4, label="ours (simulated)", color="tab:blue")
-    bars.bar(x + 0.2, paper, 0.4, label="paper (60 real trials)", color="tab:gray")
-    bars.set_xticks(x, [f"{side}\n(person's view)" for side in POSITIONS])
-    bars.set_ylim(0, 105)
+    bars_beside_paper(bars, [f"{side}\n(person's view)" for side in POSITIONS], ours, paper)
     bars.set_ylabel("target recognised (%)")
     false_rate = format_value(100 * summary["false_trigger_rate"], ".1f", " %")
     bars.set_title(f"Intent recognition, {summary['trials']} requests; false triggers {false_rate}")
-    bars.legend(loc="lower right")
     names = list(summary["confusion"])
     columns = [*names, "none"]
     counts = np.array([[summary["confusion"][row][col] for col in columns] for row in names])
@@ -71,7 +70,9 @@ def plot(summary: dict, path: Path) -> None:
     matrix.set_ylabel("asked for")
     matrix.set_title("Confusion (trials)")
     for (row, col), count in np.ndenumerate(counts):
-        matrix.text(col, row, str(count), ha="center", va="center")
+        dark = count > counts.max() / 2  # white figures on the darker cells
+        matrix.text(col, row, str(count), ha="center", va="center",
+                    color="white" if dark else "black")  # fmt: skip
     figure.tight_layout()
     figure.savefig(path, dpi=120)
     plt.close(figure)

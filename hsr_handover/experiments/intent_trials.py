@@ -30,8 +30,8 @@ SETTLE_S = 1.0
 @dataclasses.dataclass(frozen=True)
 class IntentTrial:
     """One trial, self-contained: its index, kind ("request" or one of DISTRACTORS), the object
-    asked for ("" on a distractor trial), the arm used, when the pointing starts, and the whole
-    scenario to run (its seed included)."""
+    asked for ("" on a distractor trial), the arm used, when the pointing starts, the whole
+    scenario to run (its seed included) and where to write its replay ("": none)."""
 
     index: int
     kind: str
@@ -40,6 +40,7 @@ class IntentTrial:
     pointing_onset: float
     scenario: Scenario
     record_percepts: bool = False
+    replay_dir: str = ""
 
 
 def object_positions(scenario: Scenario) -> dict[str, str]:

@@ -49,3 +49,17 @@ def write_rows(rows: list[dict], columns: Sequence[str], path: Path) -> None:
 
 def _cell(value: Any) -> Any:
     return f"{value:.4g}" if isinstance(value, float) else value
+
+
+def bars_beside_paper(axes, labels: Sequence[str], ours: Sequence[float], paper: Sequence[float]):
+    """Percentages, ours (blue) beside the paper's 60 real trials (grey), each bar labelled
+    with its value, the legend above the bars."""
+    x = range(len(labels))
+    series = ((-0.2, ours, "ours (simulated)", "tab:blue"),
+              (0.2, paper, "paper (60 real trials)", "tab:gray"))  # fmt: skip
+    for offset, values, label, colour in series:
+        drawn = axes.bar([k + offset for k in x], values, 0.4, label=label, color=colour)
+        axes.bar_label(drawn, fmt="%.1f %%", padding=2, fontsize="small")
+    axes.set_xticks(list(x), labels)
+    axes.set_ylim(0, 118)
+    axes.legend(loc="upper center", ncols=2, fontsize="small")

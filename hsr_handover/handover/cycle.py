@@ -19,6 +19,8 @@ from typing import Protocol
 
 import numpy as np
 
+from hsr_handover.handover.plan_view import PlanView
+
 
 class Phase(enum.Enum):
     WATCH = "watch"
@@ -125,6 +127,7 @@ class PlannedMotions:
     motions: tuple[tuple[str, Motion], ...] = ()
     seconds: float = 0.0
     held: object = None  # a grasp's: the object as the hand will hold it, for later plans
+    view: PlanView | None = None  # what the plan shows in the replay
 
 
 class CyclePlanner(Protocol):
@@ -197,6 +200,7 @@ class HandoverCycle:
         self._turned: float | None = None  # when it turned to the person, the object lifted
         self._blocked: float | None = None  # when the plan now wanted first found no way
         self._retry_at = -math.inf  # when to try that plan again
+        self.view = PlanView()  # what the plans so far show in the replay
 
     def __deepcopy__(self, memo: dict) -> HandoverCycle:
         clone = copy.copy(self)
@@ -348,6 +352,7 @@ class HandoverCycle:
         self.cycle.planning_s += planned.seconds
         if planned.ok:
             self._queue = list(planned.motions)
+            self.view = self.view.updated(planned.view)
             self._moving(p.time)
 
     def _release(self, p: Percepts) -> None:
@@ -370,6 +375,7 @@ class HandoverCycle:
         self.cycle.planning_s += planned.seconds
         if planned.ok:
             self._blocked = None
+            self.view = self.view.updated(planned.view)
             return planned
         self._blocked = p.time if self._blocked is None else self._blocked
         if p.time - self._blocked < PATIENCE_S:
@@ -424,6 +430,7 @@ class HandoverCycle:
             return
         self._enter(Phase.RETREAT, p.time)
         self._queue = list(planned.motions)
+        self.view = self.view.updated(planned.view)
 
     def _finish(self, phase: Phase, failure, reason: str, time: float) -> None:
         self.cycle.failure, self.cycle.reason = failure, reason

@@ -13,6 +13,7 @@ import numpy as np
 from hsr_handover.effectivity.arm_map import ArmEffectivity
 from hsr_handover.effectivity.person_map import HumanArm, PersonEffectivity
 from hsr_handover.handover.cycle import PlannedMotions
+from hsr_handover.handover.plan_view import PlanView, palm_path
 from hsr_handover.hsr import GRIPPER_JOINT, PALM_FRAME
 from hsr_handover.planning.grasps import PAD_OFFSET
 from hsr_handover.planning.inverse_kinematics import PalmGoal, solve_palm_ik
@@ -57,12 +58,13 @@ class RetargetedMotion:
         return position, velocity
 
 
-def _motions(plan: Plan, started: float) -> PlannedMotions:
-    seconds = time.perf_counter() - started
-    if not plan.ok:
-        return PlannedMotions(False, plan.reason, seconds=seconds)
-    motions = tuple((motion.name, TimedMotion(motion.timed)) for motion in plan.motions)
-    return PlannedMotions(True, "ok", motions, seconds, plan.held)
+def _view(plan: Plan, motions, palm, person: PersonEffectivity | None) -> PlanView:
+    """The plan as the replay shows it: the palm's path, and a handover's maps and point."""
+    path = palm_path((motion for _, motion in motions), palm)
+    pose = plan.pose
+    if pose is None or pose.robot_nodes is None or person is None:
+        return PlanView(path)
+    return PlanView(path, pose.robot_nodes, pose.mutual, person.nodes, pose.point)
 
 
 def remember(last: PerceivedScene | None, scene: PerceivedScene) -> PerceivedScene:
@@ -117,10 +119,20 @@ class PerceivedPlanner:
             .multiply([0.0, 0.0, PAD_OFFSET])
         )
 
+    def _motions(
+        self, plan: Plan, started: float, person: PersonEffectivity | None = None
+    ) -> PlannedMotions:
+        if not plan.ok:
+            return PlannedMotions(False, plan.reason, seconds=time.perf_counter() - started)
+        motions = tuple((motion.name, TimedMotion(motion.timed)) for motion in plan.motions)
+        seconds = time.perf_counter() - started  # the replay's view is not planning
+        view = _view(plan, motions, self.palm, person)
+        return PlannedMotions(True, "ok", motions, seconds, plan.held, view)
+
     def grasp(self, label: str, q: np.ndarray) -> PlannedMotions:
         started = time.perf_counter()
         plan = plan_grasp(self._planning(), self._arm_map, label, q, self.limits)
-        return _motions(plan, started)
+        return self._motions(plan, started)
 
     def carry(self, q: np.ndarray, held: Held | None) -> PlannedMotions:
         started = time.perf_counter()
@@ -129,7 +141,7 @@ class PerceivedPlanner:
             return PlannedMotions(False, "no person perceived to hand over to")
         person = PersonEffectivity(arm)
         plan = plan_handover(self._planning(), self._arm_map, person, q, self.limits, held)
-        return _motions(plan, started)
+        return self._motions(plan, started, person)
 
     def follow(
         self, q: np.ndarray, v: np.ndarray, hand: np.ndarray, held: Held | None
@@ -155,7 +167,9 @@ class PerceivedPlanner:
         if clearance < COLLISION_BOUND - DIP_ALLOWANCE:
             return PlannedMotions(False, f"the way to the hand comes {clearance:.3f} m near",
                                   seconds=seconds)  # fmt: skip
-        return PlannedMotions(True, "ok", (("follow", RetargetedMotion(motion)),), seconds)
+        motions = (("follow", RetargetedMotion(motion)),)
+        view = PlanView(palm_path((m for _, m in motions), self.palm))
+        return PlannedMotions(True, "ok", motions, seconds, view=view)
 
     def retreat(
         self, q: np.ndarray, held: Held | None, let_go: Held | None = None
@@ -163,4 +177,4 @@ class PerceivedPlanner:
         started = time.perf_counter()
         released = let_go.label if let_go is not None else ""
         plan = plan_retreat(self._planning(), q, self.limits, held, released)
-        return _motions(plan, started)
+        return self._motions(plan, started)

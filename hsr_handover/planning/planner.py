@@ -21,7 +21,11 @@ from hsr_handover.effectivity.person_map import PersonEffectivity
 from hsr_handover.hsr import BASE_JOINTS, GRIPPER_JOINT, GRIPPER_MIMIC_JOINT, PALM_FRAME
 from hsr_handover.planning.base_route import route_around
 from hsr_handover.planning.grasp_configurations import grasp_configurations
-from hsr_handover.planning.handover_pose import plan_handover_pose, unseeded_handover_pose
+from hsr_handover.planning.handover_pose import (
+    HandoverPose,
+    plan_handover_pose,
+    unseeded_handover_pose,
+)
 from hsr_handover.planning.inverse_kinematics import PalmGoal, solve_palm_ik
 from hsr_handover.planning.planning_scene import PERSON, PlanningScene
 from hsr_handover.planning.timing import JointLimits, TimedPath, time_path
@@ -85,7 +89,8 @@ class Held:
 class Plan:
     """`ok` with the `motions` ending at the configuration `goal`, or not with the `reason`;
     the wall `seconds` of each of STAGES and the IK solves tried; for a grasp, the object as
-    it will be `held`."""
+    it will be `held`; for a handover, the `pose` chosen (the maps and the point, for the
+    replay)."""
 
     ok: bool
     reason: str
@@ -95,6 +100,7 @@ class Plan:
     ik_solves: int = 0
     goal: np.ndarray | None = None
     held: Held | None = None
+    pose: HandoverPose | None = None
 
     @property
     def duration(self) -> float:
@@ -223,7 +229,8 @@ def _plan_handover(scene, arm_map, person, q_now, limits, ignore: tuple[str, ...
     if not pose.ok:
         return Plan(False, pose.reason, HANDOVER, seconds=seconds)
     leg = ("carry", ignore, q_now, pose.q)
-    return _plan_legs(scene, HANDOVER, (leg,), limits, seconds, 1)
+    plan = _plan_legs(scene, HANDOVER, (leg,), limits, seconds, 1)
+    return dataclasses.replace(plan, pose=pose) if plan.ok else plan
 
 
 def _plan_legs(scene, target, legs, limits, seconds, ik_solves) -> Plan:

@@ -21,11 +21,13 @@ from hsr_handover.robot.perception import PERCEPTION_OUTPUTS, add_perception
 from hsr_handover.scenario import Scenario, robot_start_positions
 from hsr_handover.systems.handover_supervisor import HandoverSupervisor
 
+HANDOVER_OUTPUTS = ("cycle", "plan_view")  # the supervisor's, exported when handover is on
+
 
 @dataclasses.dataclass
 class Robot:
-    """The built robot: `diagram`, and the names of its perception outputs (empty when
-    perception is off)."""
+    """The built robot: `diagram`, and the names of its perception and handover outputs (empty
+    when they are off)."""
 
     diagram: Diagram
     perception_outputs: tuple[str, ...]
@@ -68,8 +70,9 @@ def build_robot(scenario: Scenario) -> Robot:
         _feed_supervisor(builder, supervisor)
         commands = (supervisor.GetOutputPort(interface.HSR_DESIRED_STATE),
                     supervisor.GetOutputPort(interface.GRIPPER_DESIRED_OPENING))  # fmt: skip
-        builder.ExportOutput(supervisor.GetOutputPort("cycle"), "cycle")
-        outputs += ("cycle",)
+        for name in HANDOVER_OUTPUTS:
+            builder.ExportOutput(supervisor.GetOutputPort(name), name)
+        outputs += HANDOVER_OUTPUTS
     else:
         posture = builder.AddNamedSystem("ready_posture", ConstantVectorSource(state))
         gripper = builder.AddNamedSystem("ready_gripper", ConstantVectorSource([opening]))

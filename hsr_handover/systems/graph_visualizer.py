@@ -1,15 +1,12 @@
 """GraphVisualizer: the robot's topological map (a GNG graph) drawn in Meshcat, live and in replays.
 
-Meshcat recordings replay transforms and properties but not `SetObject`, so a graph redrawn in
-place would replay as its last state only. Each publish therefore draws the graph as a new
-snapshot under its own path (`<path>/0000`, `<path>/0001`, ...) and the recording animates the
-snapshots' `visible` property: snapshot k is hidden from the recording's start, shown from its
-publish time and hidden again when snapshot k + 1 appears. Live browsers see only the newest.
+Each publish of a changed graph draws it as a new snapshot (`meshcat_recording.Snapshots`):
+snapshot k is hidden from the recording's start, shown from its publish time and hidden again
+when snapshot k + 1 appears. Live browsers see only the newest.
 """
 
 from __future__ import annotations
 
-from collections import deque
 from typing import Any
 
 import numpy as np
@@ -19,6 +16,7 @@ from pydrake.perception import BaseField, Fields, PointCloud
 from pydrake.systems.framework import Context, DiagramBuilder, LeafSystem, OutputPort
 
 from hsr_handover.perception.cloud_map import GraphSnapshot
+from hsr_handover.systems.meshcat_recording import Snapshots
 
 # Cluster colours (matplotlib's tab10), cycled over cluster labels.
 CLUSTER_PALETTE = np.array(
@@ -63,60 +61,39 @@ class GraphVisualizer(LeafSystem):
             raise ValueError(f"publish_period: expected a positive period, got {publish_period}")
         if max_snapshots < 1:
             raise ValueError(f"max_snapshots: expected at least 1, got {max_snapshots}")
-        self._meshcat, self._path = meshcat, path.rstrip("/")
+        self._meshcat = meshcat
         self._point_size, self._line_width, self._edge_rgba = point_size, line_width, edge_rgba
-        self._max_snapshots = max_snapshots
+        self._snapshots = Snapshots(meshcat, path, max_snapshots)
         self._graph = self.DeclareAbstractInputPort(
             "graph", AbstractValue.Make(GraphSnapshot.empty())
         )
         self.DeclareInitializationPublishEvent(self._clear)
         self.DeclarePeriodicPublishEvent(publish_period, 0.0, self._publish)
         self.DeclareForcedPublishEvent(self._publish)
-        self._snapshots: deque[str] = deque()  # paths in Meshcat, oldest first
-        self._shown: str | None = None
         self._drawn: GraphSnapshot | None = None
-        self._count = 0  # never reset: a path reused would replay as its newest object
 
     @property
     def snapshot_paths(self) -> list[str]:
         """The Meshcat paths of the snapshots kept, oldest first."""
-        return list(self._snapshots)
+        return list(self._snapshots.paths)
 
     def _clear(self, context: Context) -> None:
         """Remove what an earlier simulation on this Meshcat drew."""
-        self._meshcat.Delete(self._path)
         self._snapshots.clear()
-        self._shown = self._drawn = None
+        self._drawn = None
 
     def _publish(self, context: Context) -> None:
         graph: GraphSnapshot = self._graph.Eval(context)
         if self._drawn is not None and _same_graph(graph, self._drawn):
             return  # the snapshot shown is still right; another copy would only grow the replay
         time = context.get_time()
-        self._hide_shown(time)
         if len(graph.nodes):
-            self._show(self._draw_snapshot(graph), time)
+            self._snapshots.show(lambda path: self._draw(path, graph), time)
+        else:
+            self._snapshots.hide(time)
         self._drawn = graph
-        while len(self._snapshots) > self._max_snapshots:
-            self._meshcat.Delete(self._snapshots.popleft())
 
-    def _hide_shown(self, time: float) -> None:
-        if self._shown is not None:
-            self._set_visible(self._shown, False, time)
-            self._shown = None
-
-    def _show(self, path: str, time: float) -> None:
-        # A boolean track holds its first keyframe's value before it, so without the keyframe
-        # at the start the snapshot would show from the beginning of the replay.
-        start = self._meshcat.get_mutable_recording().start_time()
-        self._record_visible(path, False, start)
-        self._set_visible(path, True, time)
-        self._shown = path
-
-    def _draw_snapshot(self, graph: GraphSnapshot) -> str:
-        path = f"{self._path}/{self._count:04d}"
-        self._count += 1
-        self._snapshots.append(path)
+    def _draw(self, path: str, graph: GraphSnapshot) -> None:
         self._meshcat.SetObject(
             f"{path}/nodes", _node_cloud(graph), self._point_size, _VERTEX_COLOURED
         )
@@ -129,19 +106,6 @@ class GraphVisualizer(LeafSystem):
                 self._line_width,
                 self._edge_rgba,
             )
-        return path
-
-    def _set_visible(self, path: str, visible: bool, time: float) -> None:
-        # The live call updates browsers and the scene a replay starts from; the recording
-        # may be set up not to show recorded calls live.
-        self._meshcat.SetProperty(path, "visible", visible)
-        self._record_visible(path, visible, time)
-
-    def _record_visible(self, path: str, visible: bool, time: float) -> None:
-        # A keyframe before the recording's start fails a DRAKE_DEMAND in MeshcatAnimation, which
-        # ends the program (SystemExit in Python) rather than raising something catchable.
-        if time >= self._meshcat.get_mutable_recording().start_time():
-            self._meshcat.SetProperty(path, "visible", visible, time_in_recording=time)
 
 
 def add_graph_visualizer(

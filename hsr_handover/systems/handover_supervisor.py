@@ -5,7 +5,8 @@ Inputs, all percepts: `hsr_state_measured` and `gripper_opening_measured` (the j
 `detections`. Every TICK_S it looks round first (the head panned to the table's ends), then
 steps the `HandoverCycle` on what it perceives; the cycle plans through a `PerceivedPlanner`.
 Outputs: `hsr_desired_state` ([q; v] of COMMANDED_JOINTS: the motion under way, else where it
-stands; the ready posture before any), `gripper_desired_opening`, and `cycle` (the record).
+stands; the ready posture before any), `gripper_desired_opening`, `cycle` (the record) and
+`plan_view` (PlanView: what the plans show in the replay).
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ from hsr_handover.handover.cycle import Cycle, HandoverCycle, Percepts, Phase
 from hsr_handover.handover.gaze import look_at
 from hsr_handover.handover.look_round import LOOK_ROUND_S, look_round_pan
 from hsr_handover.handover.perceived_planner import PerceivedPlanner, remember
+from hsr_handover.handover.plan_view import PlanView
 from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY, HEAD_JOINTS
 from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.planning.perceived_scene import PerceivedScene
@@ -64,6 +66,9 @@ class HandoverSupervisor(LeafSystem):
         self.DeclareVectorOutputPort("gripper_desired_opening", 1, self._calc_opening)
         self.DeclareAbstractOutputPort(
             "cycle", lambda: AbstractValue.Make(Cycle()), self._calc_cycle
+        )
+        self.DeclareAbstractOutputPort(
+            "plan_view", lambda: AbstractValue.Make(PlanView()), self._calc_plan_view
         )
         self.DeclarePeriodicUnrestrictedUpdateEvent(TICK_S, 0.0, self._tick)
 
@@ -134,6 +139,9 @@ class HandoverSupervisor(LeafSystem):
 
     def _calc_cycle(self, context: Context, output: AbstractValue) -> None:
         output.set_value(dataclasses.replace(self._memory_of(context).cycle.cycle))
+
+    def _calc_plan_view(self, context: Context, output: AbstractValue) -> None:
+        output.set_value(self._memory_of(context).cycle.view)
 
 
 _WRIST = keypoint_index(f"{RECEIVING_SIDE}_wrist")
