@@ -50,6 +50,8 @@ def test_it_looks_round_the_table_then_holds_the_ready_posture(supervisor):
     np.testing.assert_allclose(_command(system, context), ready)
     assert system.GetOutputPort("gripper_desired_opening").Eval(context)[0] == OPENING
     assert system.GetOutputPort("cycle").Eval(context).phase is Phase.WATCH
+    view = system.GetOutputPort("plan_view").Eval(context)  # nothing planned, nothing to draw
+    assert view.handover_point is None and view.palm_path.shape == (0, 3)
 
 
 def test_a_request_for_an_object_it_never_perceived_fails_as_unreachable(supervisor):

@@ -255,6 +255,10 @@ def test_a_grasp_plan_is_timed_and_clear_every_10_ms(scene, arm_map):
     assert plan.held.label == "blue"
     with scene.holding(plan.held.label, plan.held.q_grasp):  # the cup, too, keeps clear
         assert timed_clearance(scene, carry) >= COLLISION_BOUND - 0.012
+    pose = handover.pose  # what the replay draws: the maps and the point handed over at
+    assert pose.ok and pose.mutual.any() and len(pose.mutual) == len(pose.robot_nodes)
+    nearest = np.linalg.norm(pose.robot_nodes[pose.mutual] - pose.point, axis=1).min()
+    assert nearest < 1e-9  # the point is one of the mutual area's nodes
 
 
 def test_an_unreachable_target_plans_nothing_and_says_why(scene, arm_map):
