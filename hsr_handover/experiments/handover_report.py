@@ -9,6 +9,7 @@ import matplotlib
 
 matplotlib.use("Agg")  # files only: no display on a robot's or CI's machine
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.ticker import MaxNLocator  # noqa: E402
 
 from hsr_handover.experiments.reporting import (  # noqa: E402
     bars_beside_paper,
@@ -76,6 +77,7 @@ def plot(summary: dict, path: Path) -> None:
     counts = {name: count for name, count in summary["failures"].items() if count}
     names = list(counts) or ["none"]
     failures.barh(names, [counts.get(name, 0) for name in names], color="tab:red")
+    failures.xaxis.set_major_locator(MaxNLocator(integer=True))  # whole trials
     failures.set_xlabel("trials")
     failures.set_title("Failures, first cause per trial")
     failures.invert_yaxis()
