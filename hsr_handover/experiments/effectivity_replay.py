@@ -10,22 +10,20 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 import numpy as np
-from pydrake.geometry import Meshcat, Rgba, Sphere
+from pydrake.geometry import Meshcat, Sphere
 from pydrake.math import RigidTransform
-from pydrake.perception import BaseField, Fields, PointCloud
+
+from hsr_handover.systems.cycle_visualizer import (
+    HANDOVER_POINT_RADIUS,
+    HANDOVER_POINT_RGBA,
+    MAP_RGBA,
+    draw_points,
+)
 
 if TYPE_CHECKING:  # effectivity draws with this module
     from hsr_handover.experiments.effectivity import EffectivityResult
 
 EFFECTIVITY = "effectivity"
-LAYER_RGBA = {
-    "arm_map": Rgba(0.2, 0.6, 0.2, 1.0),  # green, as in fig. 8
-    "person_range": Rgba(0.2, 0.4, 0.9, 0.6),
-    "mutual_area": Rgba(0.9, 0.1, 0.1, 1.0),  # red, as in fig. 14
-}
-POINT_SIZE = 0.02  # m
-HANDOVER_POINT_RADIUS = 0.03  # m
-HANDOVER_POINT_RGBA = Rgba(1.0, 0.8, 0.0, 1.0)
 
 
 def effectivity_layers(result: EffectivityResult) -> dict[str, np.ndarray]:
@@ -44,10 +42,8 @@ def draw_effectivity(meshcat: Meshcat, result: EffectivityResult) -> list[str]:
     """Draw the figures' layers and the handover point; the Meshcat paths drawn."""
     paths = []
     for name, points in effectivity_layers(result).items():
-        cloud = PointCloud(len(points), Fields(BaseField.kXYZs))
-        cloud.mutable_xyzs()[:] = np.asarray(points, dtype=float).T
         paths.append(f"{EFFECTIVITY}/{name}")
-        meshcat.SetObject(paths[-1], cloud, POINT_SIZE, LAYER_RGBA[name])
+        draw_points(meshcat, paths[-1], points, MAP_RGBA[name])
     handover = result.handover
     if handover is not None and handover.point is not None:
         paths.append(f"{EFFECTIVITY}/handover_point")

@@ -33,7 +33,7 @@ HANDOVER_POINT_RGBA = Rgba(1.0, 0.8, 0.0, 1.0)
 PATH_RGBA = Rgba(0.6, 0.1, 0.8, 1.0)
 PATH_WIDTH = 3.0
 POINT_SIZE = 0.02  # m
-MAP_RGBA = {
+MAP_RGBA = {  # the effectivity figures' colours, here and in `hsr-handover effectivity`
     "arm_map": Rgba(0.2, 0.6, 0.2, 1.0),  # green, as in fig. 8
     "person_range": Rgba(0.2, 0.4, 0.9, 0.6),
     "mutual_area": Rgba(0.9, 0.1, 0.1, 1.0),  # red, as in fig. 14
@@ -129,9 +129,14 @@ class CycleVisualizer(LeafSystem):
         self._meshcat.SetLine(path, np.asfortranarray(points.T), PATH_WIDTH, PATH_RGBA)
 
     def _cloud(self, path: str, points: np.ndarray, name: str) -> None:
-        cloud = PointCloud(len(points), Fields(BaseField.kXYZs))
-        cloud.mutable_xyzs()[:] = np.asarray(points, dtype=float).T
-        self._meshcat.SetObject(path, cloud, POINT_SIZE, MAP_RGBA[name])
+        draw_points(self._meshcat, path, points, MAP_RGBA[name])
+
+
+def draw_points(meshcat: Meshcat, path: str, points: np.ndarray, rgba: Rgba) -> None:
+    """Points (n, 3, world) drawn at `path`, POINT_SIZE each, in one colour."""
+    cloud = PointCloud(len(points), Fields(BaseField.kXYZs))
+    cloud.mutable_xyzs()[:] = np.asarray(points, dtype=float).T
+    meshcat.SetObject(path, cloud, POINT_SIZE, rgba)
 
 
 def _same_point(a: np.ndarray | None, b: np.ndarray | None) -> bool:

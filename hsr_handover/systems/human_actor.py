@@ -12,7 +12,7 @@ from pydrake.systems.framework import BasicVector, Context, LeafSystem, State
 
 from hsr_handover.human.behavior import PostureTimeline
 from hsr_handover.human.body import PERSON_JOINTS
-from hsr_handover.human.receiving import Receiver
+from hsr_handover.human.receiving import Receiver, Receiving
 
 RECEIVING_PERIOD = 0.05  # s between the person's looks at the world while waiting to take
 
@@ -82,7 +82,9 @@ class HumanActor(LeafSystem):
         gripper = [(X_PW @ (poses[body] @ start), X_PW @ (poses[body] @ end), radius)
                    for body, start, end, radius in world.gripper]  # fmt: skip
         time = context.get_time()
-        posture, _ = acting.timeline.evaluate(time)
+        # The posture matters only to plan a reach, from waiting.
+        waiting = acting.receiver.state is Receiving.WAITING
+        posture = acting.timeline.evaluate(time)[0] if waiting else None
         for start, goal in acting.receiver.update(time, objects, hand, gripper, posture):
             acting.timeline = acting.timeline.interrupted(start, goal)
 
