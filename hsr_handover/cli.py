@@ -64,6 +64,36 @@ def _add_trial_arguments(parser) -> None:
     )
 
 
+def _add_openpose_parsers(commands) -> None:
+    openpose = commands.add_parser("openpose", help="OpenPose's JSON output")
+    kinds = openpose.add_subparsers(dest="openpose", required=True)
+    check = kinds.add_parser(
+        "check", help="summarise OpenPose JSON files or folders of per-frame files"
+    )
+    check.add_argument(
+        "paths", type=Path, nargs="+", metavar="PATH", help="a JSON file or a folder of frames"
+    )
+    check.add_argument("--json", type=Path, help="summary to write (.json)")
+    check.add_argument(
+        "--model", default="auto", help="auto (default: told by the files), COCO or BODY_25"
+    )
+    check.add_argument(
+        "--keypoint-scale",
+        default="pixels",
+        help="pixels (default), unit ([0, 1]) or signed_unit ([-1, 1]); these need --image-size",
+    )
+    check.add_argument(
+        "--image-size", type=int, nargs=2, metavar=("W", "H"), help="the images' size (px)"
+    )
+    check.add_argument(
+        "--near",
+        type=float,
+        nargs=2,
+        metavar=("U", "V"),
+        help="follow the person nearest this pixel",
+    )
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = _Parser(
         prog="hsr-handover",
@@ -96,6 +126,7 @@ def _parser() -> argparse.ArgumentParser:
     effectivity.add_argument("--json", type=Path, help="summary to write (.json)")
     effectivity.add_argument("--html", type=Path, help="replay with the figures to write (.html)")
     _add_experiment_parsers(commands)
+    _add_openpose_parsers(commands)
     return parser
 
 
@@ -318,6 +349,40 @@ def _experiment_kind(kind: str):
     return handover.run_handover_experiment, handover.summarise, handover_report
 
 
+_OPENPOSE_OPTIONS = {
+    "model": "--model", "keypoint_scale": "--keypoint-scale", "image_size": "--image-size",
+}  # fmt: skip
+
+
+def _openpose(args: argparse.Namespace) -> int:
+    """Read every path before printing or writing anything: one that is not OpenPose output
+    is a usage error, with no partial output."""
+    from hsr_handover.experiments.reporting import write_json
+    from hsr_handover.perception.openpose_check import check_openpose, summary_lines
+
+    output = _output_path(args.json, "--json", ".json")
+    options = {
+        "model": args.model,
+        "keypoint_scale": args.keypoint_scale,
+        "image_size": None if args.image_size is None else tuple(args.image_size),
+        "near_px": None if args.near is None else tuple(args.near),
+    }
+    try:
+        summaries = [check_openpose(path, **options) for path in args.paths]
+    except ValueError as error:
+        message = str(error)
+        for name, option in _OPENPOSE_OPTIONS.items():  # the reader names its arguments
+            if message.startswith(f"{name}: "):
+                message = option + message.removeprefix(name)
+        raise UsageError(message) from None
+    for summary in summaries:
+        print("\n".join(summary_lines(summary)))
+    if output is not None:
+        write_json({"paths": [summary.to_dict() for summary in summaries]}, output)
+        print(f"wrote {output}")
+    return 0
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     from hsr_handover.experiments.trials import ClusterUnavailable
@@ -325,7 +390,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     handlers = {
         "run": _run, "validate": _validate, "attention": _attention, "experiment": _experiment,
-        "effectivity": _effectivity,
+        "effectivity": _effectivity, "openpose": _openpose,
     }  # fmt: skip
     try:
         return handlers[args.command](args)

@@ -4,7 +4,11 @@
 loaded scenario's numbers, `loading` the file reader that runs them in order.
 """
 
-from hsr_handover.scenario.checks import object_center, resolve_model_path
+from hsr_handover.scenario.checks import (
+    object_center,
+    resolve_model_path,
+    resolve_recording_path,
+)
 from hsr_handover.scenario.loading import load_scenario
 from hsr_handover.scenario.robot_start import robot_start_positions
 from hsr_handover.scenario.schema import (
@@ -21,6 +25,7 @@ from hsr_handover.scenario.schema import (
     Scenario,
     ScenarioError,
     SimulationConfig,
+    SkeletonRecordingConfig,
     TableConfig,
     VariationConfig,
 )
@@ -29,6 +34,6 @@ __all__ = [
     "ActionConfig", "CameraConfig", "FocusConfig", "GngConfig", "ImprecisionConfig",
     "IntentConfig", "ObjectConfig", "VariationConfig",
     "PerceptionConfig", "PersonConfig", "RobotConfig", "Scenario", "ScenarioError",
-    "SimulationConfig", "TableConfig", "load_scenario", "object_center", "resolve_model_path",
-    "robot_start_positions",
+    "SimulationConfig", "SkeletonRecordingConfig", "TableConfig", "load_scenario", "object_center",
+    "resolve_model_path", "resolve_recording_path", "robot_start_positions",
 ]  # fmt: skip

@@ -40,6 +40,7 @@ from hsr_handover.hsr import (
 from hsr_handover.human.behavior import ACTIONS, REACHES
 from hsr_handover.perception.attention import FOCUS_KINDS
 from hsr_handover.perception.object_colors import OBJECT_COLORS
+from hsr_handover.perception.openpose_format import KEYPOINT_SCALES, MODEL_CHOICES
 from hsr_handover.scenario.schema import ObjectConfig, Scenario, ScenarioError
 from hsr_handover.scenario.typed_yaml import describe
 from hsr_handover.scene.object_models import OBJECT_SHAPES, object_height
@@ -162,6 +163,13 @@ def resolve_model_path(url: str, scenario_source: str) -> Path | None:
     else:
         path = Path(scenario_source).parent / url
     return path if path.is_file() else None
+
+
+def resolve_recording_path(path: str, scenario_source: str) -> Path | None:
+    """The file or folder a recording's path names (absolute, or relative to the scenario
+    file), or None when there is none."""
+    resolved = Path(scenario_source).parent / path  # an absolute path stays as it is
+    return resolved if path and resolved.exists() else None
 
 
 def _check_robot(scenario: Scenario, fail: Fail) -> tuple[str, ...]:
@@ -436,6 +444,7 @@ def _check_perception(scenario: Scenario, fail: Fail) -> None:
     probability = Interval(0, 1)
     _number(fail, "perception.face_drop_probability", perception.face_drop_probability, probability)
     _check_gng(scenario, fail)
+    _check_skeleton_recording(scenario, fail)
     names = sorted(obj.name for obj in scenario.objects)
     _check_time_order(
         fail, "perception.attention", [change.start for change in perception.attention]
@@ -461,3 +470,18 @@ def _check_gng(scenario: Scenario, fail: Fail) -> None:
     _number(fail, f"{key}.alpha", gng.alpha, FRACTION)
     _number(fail, f"{key}.beta", gng.beta, FRACTION)
     _number(fail, f"{key}.e_min", gng.e_min, Interval(0, 1e6, "m^2"))
+
+
+def _check_skeleton_recording(scenario: Scenario, fail: Fail) -> None:
+    """The recording's settings; its files are read, and checked, when the station is built."""
+    recording, key = scenario.perception.skeleton_recording, "perception.skeleton_recording"
+    if recording is None:
+        return
+    if resolve_recording_path(recording.path, scenario.source) is None:
+        expected = "an existing OpenPose JSON file or folder (relative to the scenario file)"
+        fail(f"{key}.path", f"expected {expected}, got {describe(recording.path)}")
+    _number(fail, f"{key}.frame_rate_hz", recording.frame_rate_hz, RATE)
+    _choice(fail, f"{key}.model", recording.model, MODEL_CHOICES)
+    _choice(fail, f"{key}.keypoint_scale", recording.keypoint_scale, KEYPOINT_SCALES)
+    if recording.near_px:
+        _numbers(fail, f"{key}.near_px", recording.near_px, Interval(-1e5, 1e5, "px"), "[u, v]")

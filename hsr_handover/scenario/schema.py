@@ -18,6 +18,7 @@ from hsr_handover.human.receiving import ReceivingParams
 from hsr_handover.intent import IntentParams
 from hsr_handover.perception.attention import DEFAULT_ATTENTION_WEIGHT
 from hsr_handover.perception.cloud_map import SCENE_GNG_PARAMS, SIGNALS_PER_FRAME
+from hsr_handover.perception.openpose_format import DEFAULT_KEYPOINT_SCALE, DEFAULT_MODEL
 from hsr_handover.perception.pinhole import PinholeCamera
 from hsr_handover.scenario.typed_yaml import YAML_KEY, shorten
 
@@ -260,13 +261,35 @@ class FocusConfig:
 
 
 @dataclasses.dataclass
+class SkeletonRecordingConfig:
+    """Recorded OpenPose output played back as the skeleton sensor's detections, in place of
+    the simulated detector's: `path`, an OpenPose JSON file or a folder of per-frame files
+    (relative to the scenario file; frames in OpenPose's order, natural order by name), frame k
+    shown from k / `frame_rate_hz` s; `model` "auto" (told by the files), "COCO" or "BODY_25";
+    `keypoint_scale` "pixels", "unit" ([0, 1]) or "signed_unit" ([-1, 1]), converted with the
+    camera's image size; `near_px` [u, v] follows the person nearest that pixel (empty: the one
+    facing the camera with the widest shoulders). Frames that cannot be read are skipped with a
+    warning. The recording must come from a camera with the scenario camera's intrinsics.
+
+    Ranges: path an existing file or folder; frame_rate_hz in (0, 120] Hz; near_px empty or
+    [u, v] each in [-1e5, 1e5] px."""
+
+    path: str = ""
+    frame_rate_hz: float = 30.0
+    model: str = DEFAULT_MODEL
+    keypoint_scale: str = DEFAULT_KEYPOINT_SCALE
+    near_px: list[float] = field(default_factory=list)
+
+
+@dataclasses.dataclass
 class PerceptionConfig:
     """The robot's perception, off unless `enabled`: the head camera's depth is downsampled to
     `cloud_size` [width, height] (the paper's 200 x 200), lifted to a world point cloud, cropped
     to `workspace` [x, y, z lower, x, y, z upper] (m) and learnt by the scene GNG with
     `signals_per_frame` signals per camera frame; attended regions are sampled `attention_weight`
     times more often. The skeleton sensor adds `pixel_sigma` pixels of noise and drops each
-    face keypoint with `face_drop_probability`.
+    face keypoint with `face_drop_probability`; with `skeleton_recording`, it plays a recording
+    of OpenPose's output instead (SkeletonRecordingConfig).
 
     Ranges: cloud_size integers each in [8, 1024] px; workspace each in [-20, 20] m, each lower
     bound below its upper; signals_per_frame an integer in [1, 1e6]; attention_weight in
@@ -281,6 +304,7 @@ class PerceptionConfig:
     gng: GngConfig = field(default_factory=GngConfig)
     pixel_sigma: float = 2.0
     face_drop_probability: float = 0.1
+    skeleton_recording: SkeletonRecordingConfig | None = None
 
 
 @dataclasses.dataclass

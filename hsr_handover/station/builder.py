@@ -48,6 +48,7 @@ from hsr_handover.scenario import (
 )
 from hsr_handover.station.camera import add_head_camera
 from hsr_handover.station.hsr_interface import add_hsr_interface
+from hsr_handover.station.recorded_skeleton import add_recorded_skeleton
 from hsr_handover.station.world import (
     add_floor,
     add_world,
@@ -142,14 +143,10 @@ def _add_person(builder, plant, robot, person, objects, body, timeline, scenario
     )
 
 
-def _add_sensors(builder, plant, scene_graph, robot, person, scenario: Scenario) -> HeadCamera:
-    """The head camera and the simulated pose detector, capturing at the same instants."""
-    camera_config, perception = scenario.camera, scenario.perception
-    intrinsics = camera_config.pinhole()
-    camera = add_head_camera(
-        builder, plant, scene_graph, robot, intrinsics, camera_config.depth_range,
-        camera_config.rate_hz, camera_config.render_label, RENDERER,
-    )  # fmt: skip
+def _add_pose_detector(builder, plant, person, camera, intrinsics, scenario: Scenario):
+    """The simulated pose detector on the head camera, capturing at its instants; its
+    `keypoints` output."""
+    perception = scenario.perception
     noise = SkeletonNoise(
         pixel_sigma=perception.pixel_sigma,
         face_drop_probability=perception.face_drop_probability,
@@ -157,13 +154,29 @@ def _add_sensors(builder, plant, scene_graph, robot, person, scenario: Scenario)
     detector = builder.AddNamedSystem(
         "pose_detector",
         SkeletonSensor(
-            plant, person, intrinsics, 1.0 / camera_config.rate_hz, noise,
+            plant, person, intrinsics, 1.0 / scenario.camera.rate_hz, noise,
             scenario.simulation.seed,
         ),
     )  # fmt: skip
     builder.Connect(plant.get_body_poses_output_port(), detector.GetInputPort("body_poses"))
     for name in ("depth_image", "camera_pose"):
         builder.Connect(camera.GetOutputPort(name), detector.GetInputPort(name))
+    return detector.GetOutputPort("keypoints")
+
+
+def _add_sensors(builder, plant, scene_graph, robot, person, scenario: Scenario) -> HeadCamera:
+    """The head camera and the pose detector: simulated, capturing at the camera's instants, or
+    a recording of OpenPose's output played back (`perception.skeleton_recording`)."""
+    camera_config = scenario.camera
+    intrinsics = camera_config.pinhole()
+    camera = add_head_camera(
+        builder, plant, scene_graph, robot, intrinsics, camera_config.depth_range,
+        camera_config.rate_hz, camera_config.render_label, RENDERER,
+    )  # fmt: skip
+    if scenario.perception.skeleton_recording is not None:
+        keypoints = add_recorded_skeleton(builder, scenario)
+    else:
+        keypoints = _add_pose_detector(builder, plant, person, camera, intrinsics, scenario)
     info = builder.AddNamedSystem(
         "camera_intrinsics", ConstantValueSource(AbstractValue.Make(to_camera_info(intrinsics)))
     )
@@ -173,7 +186,7 @@ def _add_sensors(builder, plant, scene_graph, robot, person, scenario: Scenario)
         interface.CAMERA_POSE: camera.GetOutputPort("camera_pose"),
         interface.CAMERA_IMAGE_TIME: camera.GetOutputPort("image_time"),
         interface.CAMERA_INFO: info.get_output_port(),
-        interface.SKELETON_KEYPOINTS: detector.GetOutputPort("keypoints"),
+        interface.SKELETON_KEYPOINTS: keypoints,
         interface.TRUTH_LABEL_IMAGE: camera.GetOutputPort("label_image"),
     }
     for name, port in exports.items():
