@@ -26,6 +26,9 @@ PACKAGE_NAME = "hsr_handover"
 HSR_URL = f"package://{PACKAGE_NAME}/hsrb/hsrb.sdf"
 
 PALM_FRAME = "hand_palm_link"
+WRIST_SENSOR_JOINT = "hand_palm_joint"
+"""The fixed joint mounting the hand on the wrist, where the HSR's force-torque sensor sits; its
+child frame is PALM_FRAME."""
 CAMERA_FRAME = "head_rgbd_sensor_frame"
 BASE_JOINTS = ("base_x_joint", "base_y_joint", "base_yaw_joint")
 ARM_JOINTS = ARM_JOINT_NAMES

@@ -18,6 +18,9 @@ HSR_STATE_MEASURED = "hsr_state_measured"
 """[q; v] of `hsr.COMMANDED_JOINTS` as the joint encoders (and the base's odometry) read them."""
 GRIPPER_OPENING_MEASURED = "gripper_opening_measured"
 """[opening]: the measured distance between the fingertips (m)."""
+HSR_WRIST_WRENCH_MEASURED = "hsr_wrist_wrench_measured"
+"""[torque; force] (N m, N) the hand, with what it holds, exerts on the wrist's force-torque
+sensor, in the hand's frame (`hsr.PALM_FRAME`)."""
 CAMERA_COLOR_IMAGE = "camera_color_image"
 CAMERA_DEPTH_IMAGE = "camera_depth_image"
 CAMERA_POSE = "camera_pose"
@@ -29,8 +32,8 @@ CAMERA_IMAGE_TIME = "camera_image_time"
 SKELETON_KEYPOINTS = "skeleton_keypoints"
 """The pose detector's 2-D COCO-18 keypoints of the last capture (perception.skeleton.Detection)."""
 SENSORS = (
-    HSR_STATE_MEASURED, GRIPPER_OPENING_MEASURED, CAMERA_COLOR_IMAGE, CAMERA_DEPTH_IMAGE,
-    CAMERA_POSE, CAMERA_INFO, CAMERA_IMAGE_TIME, SKELETON_KEYPOINTS,
+    HSR_STATE_MEASURED, GRIPPER_OPENING_MEASURED, HSR_WRIST_WRENCH_MEASURED, CAMERA_COLOR_IMAGE,
+    CAMERA_DEPTH_IMAGE, CAMERA_POSE, CAMERA_INFO, CAMERA_IMAGE_TIME, SKELETON_KEYPOINTS,
 )  # fmt: skip
 
 TRUTH_PREFIX = "truth_"

@@ -28,7 +28,7 @@ from hsr_handover.human.receiving import (
     path_clearance,
     reach_point,
 )
-from hsr_handover.systems.hand_grip import GRIP_PERIOD, STIFFNESS, HandGrip
+from hsr_handover.systems.hand_grip import GRIP_FREQUENCY, GRIP_PERIOD, GrippedBody, HandGrip
 
 BODY = BodyDimensions.from_height(1.7, seated=True)
 SHOULDER = BODY.shoulder("right")
@@ -141,9 +141,13 @@ def test_a_person_who_does_not_take_never_reaches():
     assert receiver.state is Receiving.WAITING
 
 
+CUP_MASS = 0.2  # kg
+
+
 @pytest.fixture
 def grip():
-    system = HandGrip(hand=1, objects={"cup": 2})
+    cup = GrippedBody(2, CUP_MASS, np.diag([2e-4, 2e-4, 1e-4]))
+    system = HandGrip(hand=1, objects={"cup": cup})
     context = system.CreateDefaultContext()
     poses = [RigidTransform(), RigidTransform([0.5, 0, 1.0]), RigidTransform([0.6, 0, 1.0])]
     system.GetInputPort("body_poses").FixValue(context, poses)
@@ -173,8 +177,9 @@ def test_a_closed_hand_holds_the_object_where_it_closed_on_it(grip):
     moved = [*poses[:2], RigidTransform([0.6, 0, 0.99])]  # it sags 1 cm in the hand
     system.GetInputPort("body_poses").FixValue(context, moved)
     on_object, on_hand = system.GetOutputPort("spatial_forces").Eval(context)
-    np.testing.assert_allclose(on_object.F_Bq_W.translational(), [0, 0, STIFFNESS * 0.01])
-    np.testing.assert_allclose(on_hand.F_Bq_W.translational(), [0, 0, -STIFFNESS * 0.01])
+    pull = CUP_MASS * GRIP_FREQUENCY**2 * 0.01  # N: the spring scaled by the cup's mass
+    np.testing.assert_allclose(on_object.F_Bq_W.translational(), [0, 0, pull])
+    np.testing.assert_allclose(on_hand.F_Bq_W.translational(), [0, 0, -pull])
     system.GetInputPort("grip").FixValue(context, "")
     _latch(system, context)
     assert system.GetOutputPort("spatial_forces").Eval(context) == []

@@ -74,9 +74,15 @@ SPREAD = 0.015
 """m the fingers may be forced open beyond the object's width, while presenting, before the
 robot lets go: the person draws the object out between them (the gripper yields before the
 arm does, so the palm is not pulled)."""
+TUG = 3.0
+"""N: the wrist's sensor feeling the load pulled this much harder toward the person than while
+it was carried means the person has hold of it. People tug at 5-15 N to take an object; the
+arm's own accelerations while presenting move a few hundred grams, under 1 N; a hand coming in
+pushes the object away from the person, not toward them."""
 TAKEN_S = 1.0
-"""s after a hand was last seen at the object within which fingers that close on nothing mean
-the person drew it out (the wrist is soon farther off than REACH as the arm draws it in)."""
+"""s after a hand was last seen at the object, or a tug felt, within which fingers that close
+on nothing mean the person drew it out (the wrist is soon farther off than REACH as the arm
+draws it in, and the robot's own arm often hides the hand from its camera)."""
 PATIENCE_S = 6.0
 """s the robot keeps trying a plan that finds no way, on fresh percepts, before it gives up: a
 pointing arm held over the object blocks every grasp until the person lowers it (6 of the
@@ -103,8 +109,10 @@ class Percepts:
     object's centre as the camera sees it now (`object_seen`, None when not in view), the
     receiving hand from the skeleton (`hand`, None when not seen), the palm's point by forward
     kinematics of `q` (`palm`), a point on the person seen now (`person`, the receiving
-    shoulder; None when the person is not in view) and how far the joint sensors put the palm
-    from where it is commanded (`pull`, m: a person tugging at the object held)."""
+    shoulder; None when the person is not in view), how far the joint sensors put the palm
+    from where it is commanded (`pull`, m: a person tugging at the object held) and the force
+    the hand and its load exert on the wrist's sensor (`wrist_force`, N, world; None without
+    the sensor)."""
 
     time: float
     q: np.ndarray
@@ -115,6 +123,7 @@ class Percepts:
     palm: np.ndarray | None = None
     person: np.ndarray | None = None
     pull: float = 0.0
+    wrist_force: np.ndarray | None = None
 
 
 @dataclasses.dataclass(frozen=True)
@@ -190,7 +199,8 @@ class HandoverCycle:
         self._gripper = OPEN
         self._since = 0.0  # when the current wait began
         self._seen_at = 0.0  # when the person was last seen
-        self._hand_at_object = -math.inf  # when a hand was last seen at the object
+        self._hand_at_object = -math.inf  # when a hand was last seen at, or tugged, the object
+        self._carried_force: np.ndarray | None = None  # on the wrist as it began presenting
         self._held_width = math.inf  # the opening closed on the object
         self._followed_at = -math.inf  # when it last tried to follow the hand
         self._object_start: np.ndarray | None = None
@@ -301,13 +311,17 @@ class HandoverCycle:
             return
         self._enter(Phase.PRESENT, p.time)
         self._seen_at = p.time
+        self._carried_force = p.wrist_force
 
     def _present(self, p: Percepts) -> None:
         if p.person is not None:
             self._seen_at = p.time
         if p.hand is not None and _distance(p.hand, p.palm) <= REACH:
             self._hand_at_object = p.time
-        if p.pull > PULL:
+        tugged = self._tug(p) > TUG
+        if tugged:
+            self._hand_at_object = p.time
+        if p.pull > PULL or tugged:
             if not self._moving(p.time):
                 self._let_go(p)
                 return
@@ -332,6 +346,19 @@ class HandoverCycle:
             return
         if p.time - self._followed_at > FOLLOW_EVERY_S and not self._moving(p.time):
             self._follow(p)
+
+    def _tug(self, p: Percepts) -> float:
+        """N by which the load on the wrist pulls harder toward the person than it did as the
+        robot began presenting (0 without the sensor or a person seen)."""
+        known = (p.wrist_force, self._carried_force, self._person, p.palm)
+        if any(value is None for value in known):
+            return 0.0
+        toward = self._person - p.palm
+        distance = float(np.linalg.norm(toward))
+        if distance == 0.0:
+            return 0.0
+        # The force on the wrist points where the load is pulled: toward the person.
+        return float((p.wrist_force - self._carried_force) @ toward) / distance
 
     def _hold_still(self, p: Percepts) -> None:
         """Drop any motion and stand where the joints are."""

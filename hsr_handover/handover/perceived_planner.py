@@ -9,6 +9,7 @@ import dataclasses
 import time
 
 import numpy as np
+from pydrake.math import RigidTransform
 
 from hsr_handover.effectivity.arm_map import ArmEffectivity
 from hsr_handover.effectivity.person_map import HumanArm, PersonEffectivity
@@ -111,13 +112,13 @@ class PerceivedPlanner:
 
     def palm(self, q: np.ndarray) -> np.ndarray:
         """The pads' centre (m, world) with the HSR at `q`."""
+        return self.palm_pose(q).multiply([0.0, 0.0, PAD_OFFSET])
+
+    def palm_pose(self, q: np.ndarray) -> RigidTransform:
+        """The hand's frame (PALM_FRAME, where the wrist's sensor reads) with the HSR at `q`."""
         plant, context = self.robot.plant, self.robot.plant_context
         plant.SetPositions(context, q)
-        return (
-            plant.GetFrameByName(PALM_FRAME)
-            .CalcPoseInWorld(context)
-            .multiply([0.0, 0.0, PAD_OFFSET])
-        )
+        return plant.GetFrameByName(PALM_FRAME).CalcPoseInWorld(context)
 
     def _motions(
         self, plan: Plan, started: float, person: PersonEffectivity | None = None

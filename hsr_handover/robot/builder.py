@@ -41,9 +41,13 @@ def ready_command(scenario: Scenario) -> tuple[np.ndarray, float]:
 
 
 def _feed_supervisor(builder: DiagramBuilder, supervisor: HandoverSupervisor) -> None:
-    """The supervisor reads the joint sensors (exported inputs, shared with perception when it
-    reads them) and the perception systems' outputs."""
-    for sensor in (interface.HSR_STATE_MEASURED, interface.GRIPPER_OPENING_MEASURED):
+    """The supervisor reads the joint and wrist sensors (exported inputs, shared with
+    perception when it reads them) and the perception systems' outputs."""
+    for sensor in (
+        interface.HSR_STATE_MEASURED,
+        interface.GRIPPER_OPENING_MEASURED,
+        interface.HSR_WRIST_WRENCH_MEASURED,
+    ):
         builder.ExportInput(supervisor.GetInputPort(sensor), sensor)
     for port, system, output in (
         ("intent", "intent_estimator", "intent"),

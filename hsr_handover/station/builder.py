@@ -59,7 +59,7 @@ from hsr_handover.station.world import (
     render_params,
     set_default_positions,
 )
-from hsr_handover.systems.hand_grip import HandGrip
+from hsr_handover.systems.hand_grip import GrippedBody, HandGrip
 from hsr_handover.systems.head_camera import HeadCamera, to_camera_info
 from hsr_handover.systems.human_actor import HumanActor, WorldBodies
 from hsr_handover.systems.skeleton_sensor import SkeletonSensor
@@ -117,12 +117,13 @@ def _add_person(builder, plant, robot, person, objects, body, timeline, scenario
     params = scenario.person.receiving.params()
     side = "r_" if params.arm == "right" else "l_"
     hand = int(plant.GetBodyByName(f"{side}hand", person).index())
-    bodies = {name: int(plant.GetBodyIndices(instance)[0]) for name, instance in objects.items()}
+    bodies = {name: _gripped_body(plant, instance) for name, instance in objects.items()}
     gripper = tuple(
         (int(plant.GetBodyByName(link, robot).index()), np.array(start), np.array(end), radius)
         for link, (start, end, radius) in GRIPPER_CAPSULES.items()
     )
-    world = WorldBodies(hand, body.hand / 2, bodies, person_pose(scenario), gripper)
+    indices = {name: gripped.index for name, gripped in bodies.items()}
+    world = WorldBodies(hand, body.hand / 2, indices, person_pose(scenario), gripper)
     actor = builder.AddNamedSystem(
         "human_actor",
         HumanActor(timeline, actuated_joint_names(plant, person), Receiver(body, params), world),
@@ -141,6 +142,12 @@ def _add_person(builder, plant, robot, person, objects, body, timeline, scenario
     builder.Connect(
         grip.GetOutputPort("spatial_forces"), plant.get_applied_spatial_force_input_port()
     )
+
+
+def _gripped_body(plant: MultibodyPlant, instance: ModelInstanceIndex) -> GrippedBody:
+    body = plant.get_body(plant.GetBodyIndices(instance)[0])
+    inertia = body.default_rotational_inertia().CopyToFullMatrix3()
+    return GrippedBody(int(body.index()), body.default_mass(), inertia)
 
 
 def _add_pose_detector(builder, plant, person, camera, intrinsics, scenario: Scenario):

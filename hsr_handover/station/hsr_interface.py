@@ -3,7 +3,7 @@
 The plant's PD controllers take [q_d; v_d] over every actuator, the gripper's finger among
 them; the robot commands `COMMANDED_JOINTS` and a fingertip opening instead, and reads the same
 joints back. Both directions are constant selection matrices: a NamedInputsGain in, Drake's
-MatrixGain out.
+MatrixGain out. The wrist's force-torque sensor reads the plant's reaction at the hand's mount.
 """
 
 from __future__ import annotations
@@ -18,6 +18,7 @@ from hsr_handover.hsr import (
     COMMANDED_JOINTS,
     FINGER_PER_OPENING,
     GRIPPER_JOINT,
+    WRIST_SENSOR_JOINT,
     actuated_joint_names,
 )
 from hsr_handover.interface import (
@@ -25,8 +26,10 @@ from hsr_handover.interface import (
     GRIPPER_OPENING_MEASURED,
     HSR_DESIRED_STATE,
     HSR_STATE_MEASURED,
+    HSR_WRIST_WRENCH_MEASURED,
 )
 from hsr_handover.systems.named_inputs_gain import NamedInputsGain
+from hsr_handover.systems.wrist_force_sensor import WristForceSensor
 
 
 def command_matrix(plant: MultibodyPlant, robot: ModelInstanceIndex) -> np.ndarray:
@@ -71,7 +74,8 @@ def measurement_matrices(
 def add_hsr_interface(
     builder: DiagramBuilder, plant: MultibodyPlant, robot: ModelInstanceIndex
 ) -> None:
-    """Export the HSR's command inputs and joint-sensor outputs (names in `interface`).
+    """Export the HSR's command inputs and its joint and wrist sensors' outputs (names in
+    `interface`).
 
     The command inputs have no default: a simulation with either left unconnected fails at its
     first step, naming the port, rather than holding some posture nobody asked for.
@@ -90,3 +94,7 @@ def add_hsr_interface(
         sensor = builder.AddNamedSystem(name, MatrixGain(matrix))
         builder.Connect(plant.get_state_output_port(robot), sensor.get_input_port())
         builder.ExportOutput(sensor.get_output_port(), name)
+    joint = plant.GetJointByName(WRIST_SENSOR_JOINT, robot).index()
+    wrist = builder.AddNamedSystem(HSR_WRIST_WRENCH_MEASURED, WristForceSensor(int(joint)))
+    builder.Connect(plant.get_reaction_forces_output_port(), wrist.get_input_port())
+    builder.ExportOutput(wrist.get_output_port(), HSR_WRIST_WRENCH_MEASURED)

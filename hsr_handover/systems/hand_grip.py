@@ -20,10 +20,22 @@ from pydrake.multibody.tree import BodyIndex
 from pydrake.systems.framework import Context, LeafSystem, State
 
 GRIP_PERIOD = 0.01  # s between checks of the actor's grip
-STIFFNESS = 1000.0  # N/m: 1.2 kg (the heaviest object) sags 1.2 cm
-DAMPING = 30.0  # N s/m
-TURN_STIFFNESS = 5.0  # N m/rad
-TURN_DAMPING = 0.1  # N m s/rad
+GRIP_FREQUENCY = 40.0
+"""rad/s: the natural frequency of the hold, critically damped. The spring and the damper
+scale with the object's own mass and inertia, so every object sags the same 6 mm in the hand
+(g / GRIP_FREQUENCY^2) and turns back as fast. The force is explicit (the plant sees it one
+step late): it stays stable while the frequency times the plant's step is well under 1, which
+fixed gains (5 N m/rad, 0.1 N m s/rad) were not for a 0.2 kg cup at a 4 ms step."""
+
+
+@dataclasses.dataclass(frozen=True)
+class GrippedBody:
+    """An object the hand may close on: its body index in the plant, mass (kg) and rotational
+    inertia about its origin in its own frame (kg m^2, 3 x 3)."""
+
+    index: int
+    mass: float
+    inertia: np.ndarray
 
 
 @dataclasses.dataclass(frozen=True)
@@ -31,13 +43,18 @@ class _Hold:
     name: str = ""
     X_HO: RigidTransform | None = None  # the object in the hand as the hand closed
 
+    def __deepcopy__(self, memo: dict) -> _Hold:
+        # Never changed once made (a new hold replaces it): Drake copies the state at each of
+        # the 100 checks a second, and a deep copy cost as much as the check.
+        return self
+
 
 class HandGrip(LeafSystem):
     """Inputs `grip` (the object's name or ""), `body_poses` and `body_spatial_velocities`
     (the plant's); output `spatial_forces` for the plant's applied_spatial_force input. `hand`
-    and `objects` are body indices."""
+    is the hand's body index, `objects` what it may hold, by name."""
 
-    def __init__(self, hand: int, objects: dict[str, int]):
+    def __init__(self, hand: int, objects: dict[str, GrippedBody]):
         super().__init__()
         self._hand, self._objects = hand, dict(objects)
         self._grip = self.DeclareAbstractInputPort("grip", AbstractValue.Make(""))
@@ -64,7 +81,7 @@ class HandGrip(LeafSystem):
             state.get_mutable_abstract_state(self._hold).set_value(_Hold())
             return
         poses = self._poses.Eval(context)
-        X_HO = poses[self._hand].inverse() @ poses[self._objects[name]]
+        X_HO = poses[self._hand].inverse() @ poses[self._objects[name].index]
         state.get_mutable_abstract_state(self._hold).set_value(_Hold(name, X_HO))
 
     def _calc_forces(self, context: Context, output: AbstractValue) -> None:
@@ -72,19 +89,23 @@ class HandGrip(LeafSystem):
         if not hold.name:
             output.set_value([])
             return
-        obj = self._objects[hold.name]
+        held = self._objects[hold.name]
+        obj = held.index
         poses, velocities = self._poses.Eval(context), self._velocities.Eval(context)
         X_WH, X_WO = poses[self._hand], poses[obj]
         X_WT = X_WH @ hold.X_HO  # where the hand holds it
         V_H, V_O = velocities[self._hand], velocities[obj]
         p_HT = X_WT.translation() - X_WH.translation()
         v_T = V_H.translational() + np.cross(V_H.rotational(), p_HT)
-        force = STIFFNESS * (X_WT.translation() - X_WO.translation()) + DAMPING * (
-            v_T - V_O.translational()
+        k, c = GRIP_FREQUENCY**2, 2.0 * GRIP_FREQUENCY  # per unit mass or inertia
+        force = held.mass * (
+            k * (X_WT.translation() - X_WO.translation()) + c * (v_T - V_O.translational())
         )
         turn = (X_WT.rotation() @ X_WO.rotation().inverse()).ToAngleAxis()
-        torque = TURN_STIFFNESS * turn.angle() * turn.axis() + TURN_DAMPING * (
-            V_H.rotational() - V_O.rotational()
+        R_WO = X_WO.rotation().matrix()
+        inertia_W = R_WO @ held.inertia @ R_WO.T
+        torque = inertia_W @ (
+            k * turn.angle() * turn.axis() + c * (V_H.rotational() - V_O.rotational())
         )
         on_object = _applied(obj, SpatialForce(torque, force))
         # Equal and opposite on the hand, at the object's origin.

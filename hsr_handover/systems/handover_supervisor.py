@@ -1,12 +1,14 @@
 """HandoverSupervisor: the robot's perceiving-acting cycle (issue 10) as a Drake system.
 
 Inputs, all percepts: `hsr_state_measured` and `gripper_opening_measured` (the joint sensors),
+`hsr_wrist_wrench_measured` (the wrist's force-torque sensor),
 `intent` (the IntentEstimator's state), `perceived_scene`, `skeleton` (lifted) and
 `detections`. Every TICK_S it looks round first (the head panned to the table's ends), then
 steps the `HandoverCycle` on what it perceives; the cycle plans through a `PerceivedPlanner`.
 Outputs: `hsr_desired_state` ([q; v] of COMMANDED_JOINTS: the motion under way, else where it
-stands; the ready posture before any), `gripper_desired_opening`, `cycle` (the record) and
-`plan_view` (PlanView: what the plans show in the replay).
+stands; the ready posture before any) and `gripper_desired_opening`, both streamed every
+CONTROL_PERIOD_S; `cycle` (the record) and `plan_view` (PlanView: what the plans show in the
+replay).
 """
 
 from __future__ import annotations
@@ -15,7 +17,7 @@ import dataclasses
 
 import numpy as np
 from pydrake.common.value import AbstractValue
-from pydrake.systems.framework import BasicVector, Context, LeafSystem, State
+from pydrake.systems.framework import Context, DiscreteValues, LeafSystem, State
 
 from hsr_handover.effectivity.arm_map import ArmEffectivity
 from hsr_handover.effectivity.person_map import RECEIVING_SIDE, HumanArm, receiving_arm
@@ -29,6 +31,10 @@ from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.planning.perceived_scene import PerceivedScene
 
 TICK_S = 0.1  # s between the supervisor's decisions
+CONTROL_PERIOD_S = 0.01
+"""s between the commands streamed to the joints' PD controllers (100 Hz, as a trajectory
+controller streams them), which hold each until the next. Evaluating the timed plan at every
+2 ms plant step cost a fifth of a trial's Python time."""
 PAN, TILT = (COMMANDED_JOINTS.index(joint) for joint in HEAD_JOINTS)
 
 
@@ -56,14 +62,17 @@ class HandoverSupervisor(LeafSystem):
         n = len(COMMANDED_JOINTS)
         self._state = self.DeclareVectorInputPort("hsr_state_measured", 2 * n)
         self._opening = self.DeclareVectorInputPort("gripper_opening_measured", 1)
+        self._wrench = self.DeclareVectorInputPort("hsr_wrist_wrench_measured", 6)
         self._intent = self.DeclareAbstractInputPort("intent", AbstractValue.Make(object()))
         self._scene = self.DeclareAbstractInputPort("perceived_scene", AbstractValue.Make(object()))
         self._skeleton = self.DeclareAbstractInputPort("skeleton", AbstractValue.Make(object()))
         self._detections = self.DeclareAbstractInputPort("detections", AbstractValue.Make(object()))
         memory = _Memory(HandoverCycle(self._planner))
         self._memory = self.DeclareAbstractState(AbstractValue.Make(memory))
-        self.DeclareVectorOutputPort("hsr_desired_state", 2 * n, self._calc_state)
-        self.DeclareVectorOutputPort("gripper_desired_opening", 1, self._calc_opening)
+        self._command = self.DeclareDiscreteState(self._ready)
+        self._gripper = self.DeclareDiscreteState([self._ready_opening])
+        self.DeclareStateOutputPort("hsr_desired_state", self._command)
+        self.DeclareStateOutputPort("gripper_desired_opening", self._gripper)
         self.DeclareAbstractOutputPort(
             "cycle", lambda: AbstractValue.Make(Cycle()), self._calc_cycle
         )
@@ -71,6 +80,7 @@ class HandoverSupervisor(LeafSystem):
             "plan_view", lambda: AbstractValue.Make(PlanView()), self._calc_plan_view
         )
         self.DeclarePeriodicUnrestrictedUpdateEvent(TICK_S, 0.0, self._tick)
+        self.DeclarePeriodicDiscreteUpdateEvent(CONTROL_PERIOD_S, 0.0, self._stream)
 
     def _memory_of(self, context: Context) -> _Memory:
         return context.get_abstract_state(self._memory).get_value()
@@ -104,6 +114,7 @@ class HandoverSupervisor(LeafSystem):
             if detection.label == wanted and np.all(np.isfinite(detection.center)):
                 seen = np.asarray(detection.center, dtype=float)
         person = None if arm is None else arm.shoulder
+        palm_pose = self._planner.palm_pose(q)
         palm = self._planner.palm(q)
         commanded, _, _ = cycle.command(context.get_time())
         pull = (
@@ -111,12 +122,23 @@ class HandoverSupervisor(LeafSystem):
             if commanded is None
             else float(np.linalg.norm(palm - self._planner.palm(commanded)))
         )
+        wrist_force = palm_pose.rotation() @ self._wrench.Eval(context)[3:]
         return Percepts(context.get_time(), q, opening, target, seen, _wrist(skeleton), palm,
-                        person, float(pull))  # fmt: skip
+                        person, float(pull), wrist_force)  # fmt: skip
 
-    def _calc_state(self, context: Context, output: BasicVector) -> None:
-        time = context.get_time()
+    def _stream(self, context: Context, commands: DiscreteValues) -> None:
+        # The plant steps that follow hold this command for a period: aim at their middle.
+        time = context.get_time() + CONTROL_PERIOD_S / 2
         memory = self._memory_of(context)
+        commands.set_value(self._command, self._joint_command(memory, time))
+        watching = memory.cycle.cycle.phase is Phase.WATCH
+        commands.set_value(
+            self._gripper, [self._ready_opening if watching else memory.cycle.gripper]
+        )
+
+    def _joint_command(self, memory: _Memory, time: float) -> np.ndarray:
+        """[q_d; v_d] at `time`: the motion under way, else the ready posture (its head
+        looking round while it watches), with the head aimed where the cycle looks."""
         q, v, _ = memory.cycle.command(time)
         if q is None:
             command = self._ready.copy()
@@ -128,14 +150,7 @@ class HandoverSupervisor(LeafSystem):
             n = len(COMMANDED_JOINTS)
             command[[PAN, TILT]] = memory.head
             command[[n + PAN, n + TILT]] = 0.0
-        output.SetFromVector(command)
-
-    def _calc_opening(self, context: Context, output: BasicVector) -> None:
-        cycle = self._memory_of(context).cycle
-        if cycle.cycle.phase is Phase.WATCH:
-            output.SetFromVector([self._ready_opening])
-            return
-        output.SetFromVector([cycle.gripper])
+        return command
 
     def _calc_cycle(self, context: Context, output: AbstractValue) -> None:
         output.set_value(dataclasses.replace(self._memory_of(context).cycle.cycle))

@@ -21,6 +21,7 @@ from hsr_handover.handover.cycle import (
     SETTLE_S,
     SPREAD,
     TAKEN_S,
+    TUG,
     WAIT_S,
     Failure,
     HandoverCycle,
@@ -31,6 +32,7 @@ from hsr_handover.handover.cycle import (
 
 TICK = 0.1
 OBJECT = np.array([0.8, 0.0, 0.76])
+WEIGHT = 8.0  # N of hand and object on the wrist's sensor
 
 
 class Line:
@@ -84,6 +86,7 @@ class World:
         self.hand = None
         self.palm = np.array([1.2, 0.2, 0.95])
         self.person, self.pull = np.array([1.7, 0.2, 1.2]), 0.0
+        self.wrist_force = np.array([0.0, 0.0, -WEIGHT])  # N: the hand and its load hang
 
     def tick(self, seconds: float = TICK):
         end = self.time + seconds
@@ -92,7 +95,8 @@ class World:
             q, _, _ = self.cycle.command(self.time)
             self.q = self.q if q is None else q
             percepts = Percepts(self.time, self.q, self.opening, self.target, self.seen,
-                                self.hand, self.palm, self.person, self.pull)  # fmt: skip
+                                self.hand, self.palm, self.person, self.pull,
+                                self.wrist_force)  # fmt: skip
             record = self.cycle.step(percepts)
         return record
 
@@ -249,6 +253,40 @@ def test_a_tug_at_the_object_makes_the_robot_let_go_though_the_hand_is_hidden():
     world.tick()
     assert world.cycle.cycle.phase is Phase.RELEASE
     assert world.cycle.command(world.time)[2] == pytest.approx(world.opening + LET_GO)
+
+
+def _toward_person(world: World, newtons: float) -> np.ndarray:
+    direction = world.person - world.palm
+    return newtons * direction / np.linalg.norm(direction)
+
+
+def test_a_tug_felt_at_the_wrist_makes_the_robot_let_go_though_the_arm_does_not_give():
+    world = _presenting()
+    world.wrist_force = world.wrist_force - _toward_person(world, TUG)  # a hand pushing in
+    world.tick(1.0)
+    assert world.cycle.cycle.phase is Phase.PRESENT
+    world.wrist_force = np.array([0.0, 0.0, -WEIGHT]) + _toward_person(world, TUG / 2)
+    world.tick(1.0)  # the arm's own sway
+    assert world.cycle.cycle.phase is Phase.PRESENT
+    world.wrist_force = np.array([0.0, 0.0, -WEIGHT]) + _toward_person(world, 2 * TUG)
+    world.tick()
+    assert world.cycle.cycle.phase is Phase.RELEASE and world.cycle.cycle.failure is None
+
+
+def test_fingers_closing_soon_after_a_tug_with_the_hand_hidden_is_a_handover_not_a_drop():
+    world = _presenting()
+    world.hand = world.palm + [0.0, 0.5, 0.0]  # held out elsewhere: the robot follows it
+    world.tick()
+    assert world.planner.asked[-1][0] == "follow"
+    world.hand = None  # hidden behind the robot's own arm from here on
+    world.wrist_force = np.array([0.0, 0.0, -WEIGHT]) + _toward_person(world, 2 * TUG)
+    world.tick()  # taken hold of on the way: the arm stops to feel again
+    assert world.cycle.cycle.phase is Phase.PRESENT
+    world.wrist_force = np.array([0.0, 0.0, -WEIGHT])  # the fingers slip off the object
+    world.tick(TAKEN_S - 2 * TICK)
+    world.opening = 0.0  # drawn out of the fingers before the robot had let go
+    world.tick()
+    assert world.cycle.cycle.phase is Phase.RELEASE and world.cycle.cycle.failure is None
 
 
 def test_a_hand_held_out_elsewhere_is_followed():

@@ -29,6 +29,7 @@ def supervisor():
     context = system.CreateDefaultContext()
     system.GetInputPort("hsr_state_measured").FixValue(context, ready)
     system.GetInputPort("gripper_opening_measured").FixValue(context, [OPENING])
+    system.GetInputPort("hsr_wrist_wrench_measured").FixValue(context, np.zeros(6))
     system.GetInputPort("intent").FixValue(context, IntentState())
     system.GetInputPort("perceived_scene").FixValue(context, PerceivedScene(None))
     system.GetInputPort("skeleton").FixValue(context, Skeleton.missing("no person"))
