@@ -106,6 +106,10 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--html", type=Path, help="replay file to write (default: SCENARIO.html)")
     run.add_argument("--duration", type=float, help="simulated seconds (overrides the file)")
     run.add_argument("--seed", type=int, help="random seed (overrides the file)")
+    run.add_argument(
+        "--record", type=Path, metavar="DIR",
+        help="write the robot's sensors frame by frame to DIR (a new or empty directory)",
+    )  # fmt: skip
     validate = commands.add_parser("validate", help="check a scenario without simulating it")
     validate.add_argument("scenario", type=Path, help="scenario YAML file")
     attention = commands.add_parser(
@@ -125,6 +129,11 @@ def _parser() -> argparse.ArgumentParser:
     effectivity.add_argument("--plot", type=Path, help="figure to write (.png)")
     effectivity.add_argument("--json", type=Path, help="summary to write (.json)")
     effectivity.add_argument("--html", type=Path, help="replay with the figures to write (.html)")
+    intent = commands.add_parser(
+        "intent", help="the robot's perception and intent offline, on a recorded session"
+    )
+    intent.add_argument("session", type=Path, help="a folder written by run --record")
+    intent.add_argument("--json", type=Path, help="what it recognised (.json)")
     _add_experiment_parsers(commands)
     _add_openpose_parsers(commands)
     return parser
@@ -156,6 +165,19 @@ def _replay_dir(path: Path | None) -> Path | None:
         raise UsageError(f"--html-dir: expected an existing parent directory for {str(path)!r}")
     if not os.access(existing, os.W_OK):
         raise UsageError(f"--html-dir: expected a writable directory, {str(existing)!r} is not")
+    return path
+
+
+def _record_dir(path: Path | None) -> Path | None:
+    """Check --record before anything runs: a new directory in an existing writable one, or an
+    empty existing directory (a session is never written over another)."""
+    if path is None:
+        return None
+    if path.exists() and not (path.is_dir() and not any(path.iterdir())):
+        raise UsageError(f"--record: expected a new or empty directory, {str(path)!r} is not")
+    parent = path if path.is_dir() else (path.parent if str(path.parent) else Path("."))
+    if not parent.is_dir() or not os.access(parent, os.W_OK):
+        raise UsageError(f"--record: expected a writable parent directory for {str(path)!r}")
     return path
 
 
@@ -195,14 +217,46 @@ def _run(args: argparse.Namespace) -> int:
 
     scenario = load_scenario(args.scenario)
     _apply_overrides(scenario, args)
-    replay = _replay_path(args)
-    report = run_scenario(scenario, replay=replay, progress=_ProgressBar())
+    replay, record = _replay_path(args), _record_dir(args.record)
+    report = run_scenario(scenario, replay=replay, progress=_ProgressBar(), record=record)
     print(f"sim time:    {report.sim_time:.2f} s")
     print(f"wall time:   {report.wall_time:.2f} s")
     print(f"real-time factor: {report.real_time_factor:.2f}")
     print(f"replay:      {report.replay}")
+    if record is not None:
+        print(f"recorded:    {record}")
+    if report.intent is not None:
+        print(f"intent:      {_recognised(report.intent.target, report.intent.recognised_time)}")
     if report.cycle is not None:
         _print_cycle(report.cycle, report.person_holds)
+    return 0
+
+
+def _recognised(target: str | None, time: float) -> str:
+    return f"{target} (recognised at {time:.2f} s)" if target else "nothing recognised"
+
+
+def _intent(args: argparse.Namespace) -> int:
+    """Run perception and intent on a recorded session; a folder that is not one, or whose
+    settings are broken, is a usage error."""
+    from hsr_handover.experiments.reporting import write_json
+    from hsr_handover.offline_intent import perceive_session
+    from hsr_handover.perception.rgbd_session import SessionError
+
+    output = _output_path(args.json, "--json", ".json")
+    if not args.session.is_dir():
+        raise UsageError(f"{args.session}: expected a session folder written by run --record")
+    try:
+        result = perceive_session(args.session)
+    except SessionError as error:
+        raise UsageError(str(error)) from None
+    print(f"frames:      {result.frames} at {result.rate_hz:g} Hz")
+    print(f"intent:      {_recognised(result.target, result.recognised_time)}")
+    if result.target:
+        print(f"frame:       {result.frame}, confidence {result.confidence:.2f}")
+    if output is not None:
+        write_json(result.to_dict(), output)
+        print(f"wrote {output}")
     return 0
 
 
@@ -390,7 +444,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     handlers = {
         "run": _run, "validate": _validate, "attention": _attention, "experiment": _experiment,
-        "effectivity": _effectivity, "openpose": _openpose,
+        "effectivity": _effectivity, "openpose": _openpose, "intent": _intent,
     }  # fmt: skip
     try:
         return handlers[args.command](args)

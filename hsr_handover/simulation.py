@@ -24,12 +24,15 @@ from pydrake.systems.framework import Context, Diagram, DiagramBuilder, EventSta
 from hsr_handover import interface
 from hsr_handover.handover.cycle import Cycle
 from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY
+from hsr_handover.intent import IntentState
+from hsr_handover.perception.rgbd_session import start_session
 from hsr_handover.replay import frame_view, make_local_meshcat, start_recording, write_replay
 from hsr_handover.robot import Robot, build_robot
 from hsr_handover.scenario import Scenario
 from hsr_handover.station import Station, build_station, check_initial_clearance
 from hsr_handover.systems.cycle_visualizer import CycleVisualizer
 from hsr_handover.systems.graph_visualizer import add_graph_visualizer
+from hsr_handover.systems.session_recorder import SessionRecorder
 
 ProgressCallback = Callable[[float, float], None]
 CYCLE = "cycle"  # the robot's output of its handover cycle
@@ -97,13 +100,48 @@ def _add_cycle_visualizer(builder: DiagramBuilder, robot: Diagram, meshcat: Mesh
         builder.Connect(robot.GetOutputPort(name), visualizer.GetInputPort(name))
 
 
-def build_simulation(scenario: Scenario, meshcat: Meshcat | None = None) -> Simulation:
-    """The station and the robot for `scenario`, connected, as one Diagram."""
+def build_simulation(
+    scenario: Scenario, meshcat: Meshcat | None = None, record: Path | None = None
+) -> Simulation:
+    """The station and the robot for `scenario`, connected, as one Diagram; with `record`, the
+    robot's sensors are written there frame by frame as an RGB-D session."""
     builder = DiagramBuilder()
     station, robot = add_station_and_robot(builder, scenario, meshcat)
+    if record is not None:
+        _add_session_recorder(builder, station.diagram, scenario, record)
     diagram = builder.Build()
     diagram.set_name("hsr_handover")
     return Simulation(diagram, station, robot)
+
+
+def session_settings(scenario: Scenario) -> dict:
+    """What a recorded session keeps of the scenario it was recorded in: the robot's perception
+    and intent settings and the seed, as a scenario file's sections
+    (`offline_intent.perceive_session` reads them)."""
+    perception = dataclasses.asdict(scenario.perception)
+    for key in ("enabled", "attention", "skeleton_recording", "pixel_sigma",
+                "face_drop_probability"):  # fmt: skip
+        perception.pop(key)  # the world's sensor model, or not the robot's to replay
+    return {
+        "simulation": {"seed": scenario.simulation.seed},
+        "camera": {"rate_hz": scenario.camera.rate_hz},
+        "perception": perception,
+        "intent": dataclasses.asdict(scenario.intent),
+    }
+
+
+def _add_session_recorder(
+    builder: DiagramBuilder, station: Diagram, scenario: Scenario, directory: Path
+) -> None:
+    """Record the camera's frames and the pose detector's skeletons (`rgbd_session`), with the
+    settings the robot perceives with, for `offline_intent.perceive_session`."""
+    start_session(directory, scenario.camera.pinhole(), session_settings(scenario))
+    recorder = builder.AddNamedSystem(
+        "session_recorder", SessionRecorder(directory, 1.0 / scenario.camera.rate_hz)
+    )
+    for index in range(recorder.num_input_ports()):
+        port = recorder.get_input_port(index)
+        builder.Connect(station.GetOutputPort(port.get_name()), port)
 
 
 @dataclasses.dataclass
@@ -117,6 +155,7 @@ class RunReport:
     simulation: Simulation
     context: Context
     cycle: Cycle | None = None  # the robot's handover cycle as it ended (handover runs)
+    intent: IntentState | None = None  # what the robot recognised (runs with perception)
     person_holds: str = ""  # what the person's hand holds at the end (truth, for the report)
 
     @property
@@ -124,11 +163,13 @@ class RunReport:
         return self.sim_time / self.wall_time if self.wall_time > 0 else float("inf")
 
 
-def prepare_simulation(scenario: Scenario, with_meshcat: bool) -> tuple[Simulation, Meshcat | None]:
+def prepare_simulation(
+    scenario: Scenario, with_meshcat: bool, record: Path | None = None
+) -> tuple[Simulation, Meshcat | None]:
     """Build the simulation and check the world's start; returns it with its Meshcat (or
-    None)."""
+    None). With `record`, the robot's sensors are recorded there (`build_simulation`)."""
     meshcat = make_local_meshcat() if with_meshcat else None
-    simulation = build_simulation(scenario, meshcat)
+    simulation = build_simulation(scenario, meshcat, record)
     check_initial_clearance(simulation.station)
     return simulation, meshcat
 
@@ -156,11 +197,13 @@ def run_scenario(
     replay: Path | None = None,
     progress: ProgressCallback | None = None,
     monitor_factory: Callable[[Simulation], Callable[[Context], EventStatus]] | None = None,
+    record: Path | None = None,
 ) -> RunReport:
     """Simulate `scenario.simulation.duration` seconds; write the replay HTML when asked.
     `monitor_factory(simulation)` gives a function the simulator calls after every step (an
-    experiment's recorder)."""
-    simulation, meshcat = prepare_simulation(scenario, with_meshcat=replay is not None)
+    experiment's recorder); with `record`, the robot's sensors are written there as an RGB-D
+    session (`perception.rgbd_session`)."""
+    simulation, meshcat = prepare_simulation(scenario, replay is not None, record)
     simulator = Simulator(simulation.diagram)
     if monitor_factory is not None:
         simulator.set_monitor(monitor_factory(simulation))
@@ -187,7 +230,7 @@ def run_scenario(
     written = write_replay(meshcat, replay) if meshcat is not None else None
     root = simulator.get_context()
     return RunReport(now, wall, written, simulation, root, _cycle(simulation, root),
-                     _person_holds(simulation, root))  # fmt: skip
+                     _intent(simulation, root), _person_holds(simulation, root))  # fmt: skip
 
 
 def _cycle(simulation: Simulation, root: Context) -> Cycle | None:
@@ -195,6 +238,13 @@ def _cycle(simulation: Simulation, root: Context) -> Cycle | None:
     if not robot.HasOutputPort(CYCLE):
         return None
     return robot.GetOutputPort(CYCLE).Eval(simulation.robot_context(root))
+
+
+def _intent(simulation: Simulation, root: Context) -> IntentState | None:
+    robot = simulation.robot.diagram
+    if not robot.HasOutputPort("intent"):
+        return None
+    return robot.GetOutputPort("intent").Eval(simulation.robot_context(root))
 
 
 def _cycle_ended(simulation: Simulation, root: Context) -> bool:

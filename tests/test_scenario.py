@@ -8,7 +8,8 @@ import math
 import pytest
 
 from hsr_handover.cli import main
-from hsr_handover.scenario import load_scenario
+from hsr_handover.perception.pinhole import PinholeCamera
+from hsr_handover.scenario import CameraConfig, load_scenario
 from hsr_handover.scenario.schema import MAX_KEY_PATH
 from hsr_handover.scenario.strict_yaml import MAX_DEPTH
 from tests.conftest import SCENARIOS, bundled_scenarios
@@ -187,6 +188,16 @@ BROKEN = {
         _set("camera.rate_hz", 1e308),
         "camera.rate_hz",
         "expected a number in (0, 120] (Hz), got 1e+308",
+    ),
+    "camera intrinsics short of four": (
+        _set("camera.intrinsics", [500.0, 500.0, 320.0]),
+        "camera.intrinsics",
+        "expected [fx, fy, cx, cy]",
+    ),
+    "principal point outside the image": (
+        _set("camera.intrinsics", [500.0, 500.0, 700.0, 240.0]),
+        "camera.intrinsics",
+        "expected the principal point (cx, cy) inside the image, got [700.0, 240.0]",
     ),
     "NaN object height": (
         _set("objects[0].position", [0.8, -0.22, math.nan]),
@@ -398,3 +409,10 @@ def test_attention_needs_a_schedule_and_checks_outputs_before_running(
     assert main(["attention", str(path), "--plot", str(tmp_path / "a.jpg")]) == 2
     assert "--plot: expected a path ending in .png" in capsys.readouterr().err
     assert not list(tmp_path.glob("a.*"))
+
+
+def test_a_calibrated_cameras_intrinsics_replace_the_field_of_views():
+    square = CameraConfig(width=320, height=240).pinhole()
+    assert square.fx == square.fy and square.cx == 159.5
+    calibrated = CameraConfig(width=320, height=240, intrinsics=[270.0, 268.0, 161.2, 118.9])
+    assert calibrated.pinhole() == PinholeCamera(320, 240, 270.0, 268.0, 161.2, 118.9)

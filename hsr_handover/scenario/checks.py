@@ -254,6 +254,12 @@ def _check_camera(scenario: Scenario, fail: Fail) -> None:
     _numbers(fail, "camera.depth_range", near_far, Interval(0, 20, "m", True), "[near, far]")
     if not near_far[0] < near_far[1]:
         fail("camera.depth_range", f"expected [near, far] with near < far, got {near_far}")
+    if camera.intrinsics:
+        key = "camera.intrinsics"
+        _numbers(fail, key, camera.intrinsics, Interval(0, 1e5, "px", True), "[fx, fy, cx, cy]")
+        _, _, cx, cy = camera.intrinsics
+        if not (0 <= cx < camera.width and 0 <= cy < camera.height):
+            fail(key, f"expected the principal point (cx, cy) inside the image, got {[cx, cy]}")
 
 
 def _check_table(scenario: Scenario, fail: Fail) -> None:

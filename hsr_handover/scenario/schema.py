@@ -213,9 +213,13 @@ class CameraConfig:
     """The HSR's head RGB-D camera (an Xtion): image size, frame rate, horizontal field of view,
     the depth range it reports (m), and whether to render the ground-truth label image (for
     scoring only; the robot never reads it; off saves about a quarter of the camera's time).
+    `intrinsics` [fx, fy, cx, cy] (px) give a calibrated camera's, as a recorded session's
+    camera_info holds them; empty, the pixels are square and the principal point centred, from
+    `fov_x`.
 
     Ranges: width and height integers in [16, 4096] px; rate_hz in (0, 120] Hz; fov_x in
-    (0, pi) rad; depth_range [near, far] with 0 < near < far <= 20 m."""
+    (0, pi) rad; depth_range [near, far] with 0 < near < far <= 20 m; intrinsics empty or
+    fx, fy in (0, 1e5] px and cx, cy inside the image."""
 
     width: int = 640
     height: int = 480
@@ -223,9 +227,12 @@ class CameraConfig:
     fov_x: float = 1.05
     depth_range: list[float] = field(default_factory=lambda: [0.35, 4.0])
     render_label: bool = True
+    intrinsics: list[float] = field(default_factory=list)
 
     def pinhole(self) -> PinholeCamera:
         """The intrinsics as the numpy pinhole model perception uses."""
+        if self.intrinsics:
+            return PinholeCamera(self.width, self.height, *map(float, self.intrinsics))
         return PinholeCamera.from_fov_x(self.width, self.height, self.fov_x)
 
 
