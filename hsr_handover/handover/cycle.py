@@ -76,9 +76,10 @@ robot lets go: the person draws the object out between them (the gripper yields 
 arm does, so the palm is not pulled)."""
 TUG = 3.0
 """N: the wrist's sensor feeling the load pulled this much harder toward the person than while
-it was carried means the person has hold of it. People tug at 5-15 N to take an object; the
-arm's own accelerations while presenting move a few hundred grams, under 1 N; a hand coming in
-pushes the object away from the person, not toward them."""
+it was carried, at two decisions in a row (0.1 s apart), means the person has hold of it.
+People tug at 5-15 N to take an object; the arm's own accelerations while presenting move a
+few hundred grams, under 1 N; a hand knocking the object on its way in is felt at one decision
+only (3-5 N for a step in the reference run, which let go of 3 objects before the hand closed)."""
 TAKEN_S = 1.0
 """s after a hand was last seen at the object, or a tug felt, within which fingers that close
 on nothing mean the person drew it out (the wrist is soon farther off than REACH as the arm
@@ -201,6 +202,7 @@ class HandoverCycle:
         self._seen_at = 0.0  # when the person was last seen
         self._hand_at_object = -math.inf  # when a hand was last seen at, or tugged, the object
         self._carried_force: np.ndarray | None = None  # on the wrist as it began presenting
+        self._tugged = False  # whether the last decision felt a tug
         self._held_width = math.inf  # the opening closed on the object
         self._followed_at = -math.inf  # when it last tried to follow the hand
         self._object_start: np.ndarray | None = None
@@ -318,7 +320,9 @@ class HandoverCycle:
             self._seen_at = p.time
         if p.hand is not None and _distance(p.hand, p.palm) <= REACH:
             self._hand_at_object = p.time
-        tugged = self._tug(p) > TUG
+        tugged, felt_before = self._tug(p) > TUG, self._tugged
+        self._tugged = tugged
+        tugged = tugged and felt_before
         if tugged:
             self._hand_at_object = p.time
         if p.pull > PULL or tugged:
