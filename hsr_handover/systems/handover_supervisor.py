@@ -34,7 +34,7 @@ TICK_S = 0.1  # s between the supervisor's decisions
 CONTROL_PERIOD_S = 0.01
 """s between the commands streamed to the joints' PD controllers (100 Hz, as a trajectory
 controller streams them), which hold each until the next. Evaluating the timed plan at every
-2 ms plant step cost a fifth of a trial's Python time."""
+2 ms plant step cost 3.5 s of a 108 s trial under cProfile (little without the profiler)."""
 PAN, TILT = (COMMANDED_JOINTS.index(joint) for joint in HEAD_JOINTS)
 
 

@@ -13,6 +13,7 @@ from hsr_handover.handover.cycle import (
     LET_GO,
     LOOK_S,
     LOST_S,
+    NUDGE_S,
     OFFER,
     OPEN,
     PATIENCE_S,
@@ -303,6 +304,32 @@ def test_a_hand_held_out_elsewhere_is_followed():
     # The object is brought in front of the fingers, not into the wrist.
     np.testing.assert_allclose(goal, world.hand - [0.0, OFFER, 0.0])
     assert world.cycle.command(world.time + 0.25)[0] is not None
+
+
+def test_a_hand_held_out_short_of_the_object_and_waiting_gets_the_object_brought_to_it():
+    world = _presenting()
+    world.hand = world.palm + [0.3, 0.0, 0.1]  # held out 32 cm off, below the shoulder
+    world.tick(NUDGE_S - TICK)
+    assert world.planner.asked[-1][0] == "carry"  # a hand this near may be reaching
+    world.tick(2 * TICK)
+    name, goal = world.planner.asked[-1]
+    assert name == "follow"
+    np.testing.assert_allclose(np.linalg.norm(goal - world.hand), OFFER)
+
+
+@pytest.mark.parametrize(
+    "hand",
+    [
+        pytest.param(lambda world, k: world.palm + [0.3 - 0.01 * k, 0, 0.1], id="reaching"),
+        pytest.param(lambda world, k: world.palm + [0.2, 0, -0.35], id="resting"),
+    ],
+)
+def test_a_hand_that_moves_or_rests_is_not_followed_however_long_it_takes(hand):
+    world = _presenting()
+    for k in range(int(2 * NUDGE_S / TICK)):
+        world.hand = hand(world, k)
+        world.tick()
+    assert world.planner.asked[-1][0] == "carry"
 
 
 def test_a_tug_while_following_the_hand_stops_the_arm_and_then_it_lets_go():
