@@ -87,7 +87,10 @@ TUG = 3.0
 it was carried, at two decisions in a row (0.1 s apart), means the person has hold of it.
 People tug at 5-15 N to take an object; the arm's own accelerations while presenting move a
 few hundred grams, under 1 N; a hand knocking the object on its way in is felt at one decision
-only (3-5 N for a step in the reference run, which let go of 3 objects before the hand closed)."""
+only (3-5 N for a step in the reference run, which let go of 3 objects before the hand closed).
+The pull must also point within TUG_CONE_DEG of the person: a hand closing on the object from
+the side pushes it sideways and up (7 N across, 4 N toward the person in trial 44)."""
+TUG_CONE_DEG = 45.0
 TAKEN_S = 1.0
 """s after a hand was last seen at the object, or a tug felt, within which fingers that close
 on nothing mean the person drew it out (the wrist is soon farther off than REACH as the arm
@@ -375,7 +378,8 @@ class HandoverCycle:
 
     def _tug(self, p: Percepts) -> float:
         """N by which the load on the wrist pulls harder toward the person than it did as the
-        robot began presenting (0 without the sensor or a person seen)."""
+        robot began presenting (0 without the sensor or a person seen, or when the change
+        points more than TUG_CONE_DEG away from the person)."""
         known = (p.wrist_force, self._carried_force, self._person, p.palm)
         if any(value is None for value in known):
             return 0.0
@@ -384,7 +388,10 @@ class HandoverCycle:
         if distance == 0.0:
             return 0.0
         # The force on the wrist points where the load is pulled: toward the person.
-        return float((p.wrist_force - self._carried_force) @ toward) / distance
+        change = p.wrist_force - self._carried_force
+        along = float(change @ toward) / distance
+        aligned = along >= math.cos(math.radians(TUG_CONE_DEG)) * float(np.linalg.norm(change))
+        return along if aligned else 0.0
 
     def _hold_still(self, p: Percepts) -> None:
         """Drop any motion and stand where the joints are."""

@@ -31,10 +31,12 @@ from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.planning.perceived_scene import PerceivedScene
 
 TICK_S = 0.1  # s between the supervisor's decisions
-CONTROL_PERIOD_S = 0.01
-"""s between the commands streamed to the joints' PD controllers (100 Hz, as a trajectory
-controller streams them), which hold each until the next. Evaluating the timed plan at every
-2 ms plant step cost 3.5 s of a 108 s trial under cProfile (little without the profiler)."""
+CONTROL_PERIOD_S = 0.002
+"""s between the commands streamed to the joints' PD controllers, which hold each until the next:
+the plant's default step. Streamed at 100 Hz, the 10 ms steps in the commanded fingers and arm
+shook the held object loose (trials 7 and 16 of the reference run let go before the hand
+closed; both hand over at 2 ms), for little speed (the plan's evaluation is 3.5 s of a 108 s
+trial under cProfile)."""
 PAN, TILT = (COMMANDED_JOINTS.index(joint) for joint in HEAD_JOINTS)
 
 

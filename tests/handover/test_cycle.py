@@ -269,6 +269,12 @@ def test_a_tug_felt_at_the_wrist_makes_the_robot_let_go_though_the_arm_does_not_
     world.wrist_force = np.array([0.0, 0.0, -WEIGHT]) + _toward_person(world, TUG / 2)
     world.tick(1.0)  # the arm's own sway
     assert world.cycle.cycle.phase is Phase.PRESENT
+    sideways = np.cross(_toward_person(world, 1.0), [0.0, 0.0, 1.0])
+    world.wrist_force = (
+        np.array([0.0, 0.0, -WEIGHT]) + _toward_person(world, TUG + 1) + 2 * TUG * sideways
+    )
+    world.tick(2 * TICK)  # a hand closing from the side pushes the object across
+    assert world.cycle.cycle.phase is Phase.PRESENT
     world.wrist_force = np.array([0.0, 0.0, -WEIGHT]) + _toward_person(world, 2 * TUG)
     world.tick()  # one knock of a hand on its way in is not a hold
     assert world.cycle.cycle.phase is Phase.PRESENT
