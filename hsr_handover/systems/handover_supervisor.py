@@ -6,9 +6,8 @@ Inputs, all percepts: `hsr_state_measured` and `gripper_opening_measured` (the j
 `detections`. Every TICK_S it looks round first (the head panned to the table's ends), then
 steps the `HandoverCycle` on what it perceives; the cycle plans through a `PerceivedPlanner`.
 Outputs: `hsr_desired_state` ([q; v] of COMMANDED_JOINTS: the motion under way, else where it
-stands; the ready posture before any) and `gripper_desired_opening`, both streamed every
-CONTROL_PERIOD_S; `cycle` (the record) and `plan_view` (PlanView: what the plans show in the
-replay).
+stands; the ready posture before any), `gripper_desired_opening`, `cycle` (the record) and
+`plan_view` (PlanView: what the plans show in the replay).
 """
 
 from __future__ import annotations
@@ -17,7 +16,7 @@ import dataclasses
 
 import numpy as np
 from pydrake.common.value import AbstractValue
-from pydrake.systems.framework import Context, DiscreteValues, LeafSystem, State
+from pydrake.systems.framework import BasicVector, Context, LeafSystem, State
 
 from hsr_handover.effectivity.arm_map import ArmEffectivity
 from hsr_handover.effectivity.person_map import RECEIVING_SIDE, HumanArm, receiving_arm
@@ -31,12 +30,6 @@ from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.planning.perceived_scene import PerceivedScene
 
 TICK_S = 0.1  # s between the supervisor's decisions
-CONTROL_PERIOD_S = 0.002
-"""s between the commands streamed to the joints' PD controllers, which hold each until the next:
-the plant's default step. Streamed at 100 Hz, the 10 ms steps in the commanded fingers and arm
-shook the held object loose (trials 7 and 16 of the reference run let go before the hand
-closed; both hand over at 2 ms), for little speed (the plan's evaluation is 3.5 s of a 108 s
-trial under cProfile)."""
 PAN, TILT = (COMMANDED_JOINTS.index(joint) for joint in HEAD_JOINTS)
 
 
@@ -71,10 +64,10 @@ class HandoverSupervisor(LeafSystem):
         self._detections = self.DeclareAbstractInputPort("detections", AbstractValue.Make(object()))
         memory = _Memory(HandoverCycle(self._planner))
         self._memory = self.DeclareAbstractState(AbstractValue.Make(memory))
-        self._command = self.DeclareDiscreteState(self._ready)
-        self._gripper = self.DeclareDiscreteState([self._ready_opening])
-        self.DeclareStateOutputPort("hsr_desired_state", self._command)
-        self.DeclareStateOutputPort("gripper_desired_opening", self._gripper)
+        # Evaluated at each plant step: streamed at 100 Hz instead (a discrete state), the
+        # 10 ms steps in the commanded fingers and arm shook held objects loose (session 10).
+        self.DeclareVectorOutputPort("hsr_desired_state", 2 * n, self._calc_state)
+        self.DeclareVectorOutputPort("gripper_desired_opening", 1, self._calc_opening)
         self.DeclareAbstractOutputPort(
             "cycle", lambda: AbstractValue.Make(Cycle()), self._calc_cycle
         )
@@ -82,7 +75,6 @@ class HandoverSupervisor(LeafSystem):
             "plan_view", lambda: AbstractValue.Make(PlanView()), self._calc_plan_view
         )
         self.DeclarePeriodicUnrestrictedUpdateEvent(TICK_S, 0.0, self._tick)
-        self.DeclarePeriodicDiscreteUpdateEvent(CONTROL_PERIOD_S, 0.0, self._stream)
 
     def _memory_of(self, context: Context) -> _Memory:
         return context.get_abstract_state(self._memory).get_value()
@@ -128,19 +120,9 @@ class HandoverSupervisor(LeafSystem):
         return Percepts(context.get_time(), q, opening, target, seen, _wrist(skeleton), palm,
                         person, float(pull), wrist_force)  # fmt: skip
 
-    def _stream(self, context: Context, commands: DiscreteValues) -> None:
-        # The plant steps that follow hold this command for a period: aim at their middle.
-        time = context.get_time() + CONTROL_PERIOD_S / 2
+    def _calc_state(self, context: Context, output: BasicVector) -> None:
+        time = context.get_time()
         memory = self._memory_of(context)
-        commands.set_value(self._command, self._joint_command(memory, time))
-        watching = memory.cycle.cycle.phase is Phase.WATCH
-        commands.set_value(
-            self._gripper, [self._ready_opening if watching else memory.cycle.gripper]
-        )
-
-    def _joint_command(self, memory: _Memory, time: float) -> np.ndarray:
-        """[q_d; v_d] at `time`: the motion under way, else the ready posture (its head
-        looking round while it watches), with the head aimed where the cycle looks."""
         q, v, _ = memory.cycle.command(time)
         if q is None:
             command = self._ready.copy()
@@ -152,7 +134,14 @@ class HandoverSupervisor(LeafSystem):
             n = len(COMMANDED_JOINTS)
             command[[PAN, TILT]] = memory.head
             command[[n + PAN, n + TILT]] = 0.0
-        return command
+        output.SetFromVector(command)
+
+    def _calc_opening(self, context: Context, output: BasicVector) -> None:
+        cycle = self._memory_of(context).cycle
+        if cycle.cycle.phase is Phase.WATCH:
+            output.SetFromVector([self._ready_opening])
+            return
+        output.SetFromVector([cycle.gripper])
 
     def _calc_cycle(self, context: Context, output: AbstractValue) -> None:
         output.set_value(dataclasses.replace(self._memory_of(context).cycle.cycle))
