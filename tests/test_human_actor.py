@@ -4,10 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from pydrake.math import RigidTransform
 
 from hsr_handover.human.behavior import Action, PostureTimeline, posture_changes
 from hsr_handover.human.body import PERSON_JOINTS, BodyDimensions
-from hsr_handover.systems.human_actor import HumanActor
+from hsr_handover.human.receiving import Receiver, ReceivingParams
+from hsr_handover.systems.human_actor import HumanActor, WorldBodies
 
 BODY = BodyDimensions.from_height(1.80, seated=False)
 
@@ -36,3 +38,15 @@ def test_output_is_the_timeline_permuted_into_joint_order():
 def test_unknown_joint_names_are_rejected():
     with pytest.raises(ValueError, match="joint_order"):
         HumanActor(_timeline(), ["r_elbow", "knee"])
+
+
+def test_a_copied_state_has_its_own_receiver():
+    """Drake copies the state at every update: the person's side of a handover in one copy
+    must not leak into another (the timeline, never changed once made, is shared)."""
+    world = WorldBodies(hand=0, hand_middle=0.09, objects={}, X_WP=RigidTransform())
+    actor = HumanActor(_timeline(), PERSON_JOINTS, Receiver(BODY, ReceivingParams()), world)
+    context = actor.CreateDefaultContext()
+    copied = context.Clone()
+    copied.get_mutable_abstract_state(0).get_mutable_value().receiver.grip = "cup"
+    assert actor.GetOutputPort("grip").Eval(copied) == "cup"
+    assert actor.GetOutputPort("grip").Eval(context) == ""

@@ -4,8 +4,9 @@
 never read by the robot.
 
 After every plant step it reads the plant's contact results (any contact counts, as in
-HandoverSim) and the objects' heights; every CLEARANCE_EVERY_S it measures the least distance
-from the robot, and the object it carries, to the table and to the person.
+HandoverSim) and the objects' heights, and a `TrialWatch` applies the rules to them; every
+CLEARANCE_EVERY_S it measures the least distance from the robot, and the object it carries, to
+the table and to the person.
 """
 
 from __future__ import annotations
@@ -20,8 +21,9 @@ from hsr_handover.simulation import Simulation
 
 LIFTED = 0.05  # m above where it stood: the object has been picked up
 DROPPED = 0.01
-"""m above where it stood: an object picked up and back this low, not in the person's hand, has
-dropped (HandoverSim: not held, and touching the table or below it)."""
+"""m above where it stood: an object picked up and back this low, touching neither the robot
+nor the person's closed hand, has dropped (HandoverSim: not held, and touching the table or
+below it)."""
 CLEARANCE_EVERY_S = 0.05  # s between clearance measurements
 NEAR = 0.5  # m: distances beyond this are not measured
 
@@ -45,67 +47,47 @@ class TrialScore:
     clearance_person: float = math.inf
 
 
-class HandoverScorer:
-    """A simulator monitor scoring one trial in which the person asks for `target` (by name)."""
+class TrialWatch:
+    """The scoring rules on plain observations, knowing nothing of Drake: after each step,
+    `observe` the objects' heights, the pairs of owners in contact (ROBOT, TABLE, PERSON, HAND
+    or an object's name) and the object the person's hand holds ("" for none)."""
 
-    def __init__(self, simulation: Simulation, target: str):
-        station = self._station = simulation.station
-        self._plant, self._target = station.plant, target
+    def __init__(self, target: str):
         self.score = TrialScore()
-        self._owner = geometry_owners(station)
-        self._target_geometries = {g for g, owner in self._owner.items() if owner == target}
-        self._bodies = {name: self._body(instance) for name, instance in station.objects.items()}
+        self._target = target
         self._start: dict[str, float] = {}
-        actor = station.diagram.GetSubsystemByName("human_actor")
-        self._actor, self._grip = actor, actor.GetOutputPort("grip")
-        self._next_clearance = 0.0
 
-    def _body(self, instance):
-        return self._plant.get_body(self._plant.GetBodyIndices(instance)[0])
-
-    def __call__(self, root: Context) -> EventStatus:
-        time = root.get_time()
-        plant_context = self._plant.GetMyContextFromRoot(root)
-        if math.isnan(self.score.gripped):
-            grip = self._grip.Eval(self._actor.GetMyContextFromRoot(root))
-            if grip == self._target:
-                self.score.gripped = time
-        self._heights(time, plant_context)
-        self._contacts(time, plant_context)
-        if time >= self._next_clearance:
-            self._next_clearance = time + CLEARANCE_EVERY_S
-            self._clearance(plant_context)
-        return EventStatus.Succeeded()
-
-    def _carrying(self) -> bool:
+    def carrying(self) -> bool:
         """Whether the target counts as part of the robot: lifted, not dropped, not taken."""
         score = self.score
-        return self._target in score.lifted and math.isnan(score.dropped + score.gripped)
+        return (
+            self._target in score.lifted and math.isnan(score.dropped) and math.isnan(score.gripped)
+        )
 
-    def _heights(self, time: float, plant_context) -> None:
-        score, heights = self.score, {}
-        for name, body in self._bodies.items():
-            height = heights[name] = body.EvalPoseInWorld(plant_context).translation()[2]
+    def observe(
+        self, time: float, heights: dict[str, float], contacts: list[tuple[str, str]], grip: str
+    ) -> None:
+        if math.isnan(self.score.gripped) and grip == self._target:
+            self.score.gripped = time
+        held = any(self._target in pair and ROBOT in pair for pair in contacts)
+        self._heights(time, heights, held)
+        for a, b in contacts:
+            self._contact(time, a, b)
+
+    def _heights(self, time: float, heights: dict[str, float], held: bool) -> None:
+        score = self.score
+        for name, height in heights.items():
             start = self._start.setdefault(name, height)
             if name not in score.lifted and height > start + LIFTED:
                 score.lifted[name] = time
-        if self._carrying() and heights[self._target] < self._start[self._target] + DROPPED:
+        # HandoverSim's drop: not held, and down on the table (or below it). An object held
+        # out low, near the table's edge, is still held.
+        low = heights[self._target] < self._start[self._target] + DROPPED
+        if self.carrying() and low and not held:
             score.dropped = time
 
-    def _contacts(self, time: float, plant_context) -> None:
-        results = self._plant.get_contact_results_output_port().Eval(plant_context)
-        pairs = []
-        for i in range(results.num_hydroelastic_contacts()):
-            surface = results.hydroelastic_contact_info(i).contact_surface()
-            pairs.append((surface.id_M(), surface.id_N()))
-        for i in range(results.num_point_pair_contacts()):
-            info = results.point_pair_contact_info(i).point_pair()
-            pairs.append((info.id_A, info.id_B))
-        for a, b in pairs:
-            self._contact(time, self._owner.get(a, ""), self._owner.get(b, ""))
-
     def _contact(self, time: float, a: str, b: str) -> None:
-        score, carrying = self.score, self._carrying()
+        score, carrying = self.score, self.carrying()
         for mine, other in ((a, b), (b, a)):
             carried = carrying and mine == self._target
             if not (mine == ROBOT or carried) or other == ROBOT or (carried and other == HAND):
@@ -117,9 +99,59 @@ class HandoverScorer:
             elif other not in (TABLE, PERSON, HAND, self._target, ""):
                 score.knocked.setdefault(other, time)
 
+
+class HandoverScorer:
+    """A simulator monitor scoring one trial in which the person asks for `target` (by name):
+    it reads the plant after each step and hands what it reads to a `TrialWatch`."""
+
+    def __init__(self, simulation: Simulation, target: str):
+        station = self._station = simulation.station
+        self._plant, self._target = station.plant, target
+        self._watch = TrialWatch(target)
+        self._owner = geometry_owners(station)
+        self._target_geometries = {g for g, owner in self._owner.items() if owner == target}
+        self._bodies = {name: self._body(instance) for name, instance in station.objects.items()}
+        actor = station.diagram.GetSubsystemByName("human_actor")
+        self._actor, self._grip = actor, actor.GetOutputPort("grip")
+        self._next_clearance = 0.0
+
+    @property
+    def score(self) -> TrialScore:
+        return self._watch.score
+
+    def _body(self, instance):
+        return self._plant.get_body(self._plant.GetBodyIndices(instance)[0])
+
+    def __call__(self, root: Context) -> EventStatus:
+        time = root.get_time()
+        plant_context = self._plant.GetMyContextFromRoot(root)
+        grip = self._grip_now(root) if math.isnan(self.score.gripped) else ""
+        heights = {name: body.EvalPoseInWorld(plant_context).translation()[2]
+                   for name, body in self._bodies.items()}  # fmt: skip
+        self._watch.observe(time, heights, self._contacts(plant_context), grip)
+        if time >= self._next_clearance:
+            self._next_clearance = time + CLEARANCE_EVERY_S
+            self._clearance(plant_context)
+        return EventStatus.Succeeded()
+
+    def _grip_now(self, root: Context) -> str:
+        return self._grip.Eval(self._actor.GetMyContextFromRoot(root))
+
+    def _contacts(self, plant_context) -> list[tuple[str, str]]:
+        """The owners of each pair of geometries in contact now."""
+        results = self._plant.get_contact_results_output_port().Eval(plant_context)
+        pairs = []
+        for i in range(results.num_hydroelastic_contacts()):
+            surface = results.hydroelastic_contact_info(i).contact_surface()
+            pairs.append((surface.id_M(), surface.id_N()))
+        for i in range(results.num_point_pair_contacts()):
+            info = results.point_pair_contact_info(i).point_pair()
+            pairs.append((info.id_A, info.id_B))
+        return [(self._owner.get(a, ""), self._owner.get(b, "")) for a, b in pairs]
+
     def _clearance(self, plant_context) -> None:
         query = self._plant.get_geometry_query_input_port().Eval(plant_context)
-        carried = self._target_geometries if self._carrying() else set()
+        carried = self._target_geometries if self._watch.carrying() else set()
         score = self.score
         for pair in query.ComputeSignedDistancePairwiseClosestPoints(NEAR):
             for mine, other in ((pair.id_A, pair.id_B), (pair.id_B, pair.id_A)):

@@ -67,13 +67,15 @@ FOLLOW_BEYOND = 0.45
 for the object, and the robot holds still for it (following a hand that had just closed on the
 object pushed the gripper into it)."""
 NUDGE_S = 3.0
-"""s a hand may be held out nearer than FOLLOW_BEYOND, and not move, before the robot brings the
-object to it all the same: the person judges it out of their reach (the reference run's trial 53
-waited 12 s with a wrist held out 32 cm off). A hand that reaches for the object moves."""
-HAND_STILL = 0.04  # m: a hand within this of where it was first seen while presenting is waiting
-HELD_OUT_BELOW = 0.3
-"""m: a wrist held out sits less than this below its shoulder (the forearm out, the palm a
-little below the shoulder); one resting on the table or in the lap sits 40-60 cm below."""
+"""s a hand may stay still nearer than FOLLOW_BEYOND before the robot brings the object to it
+all the same: the person judges it out of their reach (the reference run's trial 53 waited 12 s
+with a wrist held out 32 cm off). A hand that reaches for the object moves. Held out or resting
+makes no difference: the skeleton cannot tell them apart (the seated person's forearm rests
+level, its wrist about 29 cm below the shoulder; trial 53's held-out wrist was 30 cm below),
+and a person who does not take the object has it brought nearer, then kept."""
+HAND_STILL = 0.04
+"""m: a hand that stays within this of where it came to rest is waiting (the skeleton's wrist
+wanders 1-2 cm); one that moves farther comes to rest again where it is now."""
 PULL = 0.01
 """m the palm may be pulled off its commanded point, still, before the robot lets go: the
 person has hold of the object and draws it in (the arm's own sag is under 3 mm). Pulled so far
@@ -214,7 +216,7 @@ class HandoverCycle:
         self._hand_at_object = -math.inf  # when a hand was last seen at, or tugged, the object
         self._carried_force: np.ndarray | None = None  # on the wrist as it began presenting
         self._tugged = False  # whether the last decision felt a tug
-        self._first_hand: np.ndarray | None = None  # where the hand was first seen presenting
+        self._hand_rest: tuple[np.ndarray, float] | None = None  # (where, since when) presenting
         self._held_width = math.inf  # the opening closed on the object
         self._followed_at = -math.inf  # when it last tried to follow the hand
         self._object_start: np.ndarray | None = None
@@ -360,21 +362,23 @@ class HandoverCycle:
         # their mind): the robot lets go only when it feels the object taken, above.
         if p.hand is None or p.palm is None:
             return
-        if self._first_hand is None:
-            self._first_hand = p.hand
-        if not (_distance(p.hand, p.palm) > FOLLOW_BEYOND or self._held_out_short(p)):
+        self._note_hand_rest(p)
+        if not (_distance(p.hand, p.palm) > FOLLOW_BEYOND or self._waiting_short(p)):
             return
         if p.time - self._followed_at > FOLLOW_EVERY_S and not self._moving(p.time):
             self._follow(p)
 
-    def _held_out_short(self, p: Percepts) -> bool:
-        """Whether the hand has waited NUDGE_S, held out where it was first seen, without
-        coming for an object held farther than OFFER from it."""
-        if self._person is None or p.hand[2] < self._person[2] - HELD_OUT_BELOW:
-            return False  # resting, not held out
-        waited = p.time - self._since > NUDGE_S
-        still = _distance(p.hand, self._first_hand) < HAND_STILL
-        return waited and still and _distance(p.hand, p.palm) > OFFER + HAND_STILL
+    def _note_hand_rest(self, p: Percepts) -> None:
+        """Where the hand has rested, and since when: a hand first seen on its way out (the
+        reference run's trial 53) rests only once it has stopped."""
+        if self._hand_rest is None or _distance(p.hand, self._hand_rest[0]) > HAND_STILL:
+            self._hand_rest = (p.hand, p.time)
+
+    def _waiting_short(self, p: Percepts) -> bool:
+        """Whether the hand has waited still for NUDGE_S without coming for an object held
+        farther than OFFER from it."""
+        waited = p.time - self._hand_rest[1] > NUDGE_S
+        return waited and _distance(p.hand, p.palm) > OFFER + HAND_STILL
 
     def _tug(self, p: Percepts) -> float:
         """N by which the load on the wrist pulls harder toward the person than it did as the

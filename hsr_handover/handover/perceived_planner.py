@@ -157,6 +157,8 @@ class PerceivedPlanner:
         ignore = () if held is None else (held.label,)
         with _holding(scene, held):
             found = solve_palm_ik(scene, goal, q, ignore=ignore, base_fixed=True)
+            if not found.ok:  # out of the arm's reach from here (trial 53): the base steps too
+                found = solve_palm_ik(scene, goal, q, ignore=ignore)
             if not found.ok:
                 return PlannedMotions(False, found.reason, seconds=time.perf_counter() - started)
             motion = retarget(q, v, np.zeros_like(q), found.q, self.limits)

@@ -23,6 +23,7 @@ nor breaks a dwell that the arm keeps pointing through.
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import math
 from collections.abc import Sequence
@@ -351,6 +352,13 @@ class RaySmoother:
         self._face: list[tuple[float, Ray]] = []
         self._arm: str | None = None
 
+    def __deepcopy__(self, memo: dict) -> RaySmoother:
+        """Rays are never changed once made: a copy has its own histories, sharing the rays
+        (Drake copies the state at each frame)."""
+        clone = copy.copy(self)
+        clone._pointing, clone._face = list(self._pointing), list(self._face)
+        return clone
+
     def smooth(self, time: float, observation: Observation) -> Observation:
         if observation.pointing is None or observation.arm != self._arm:
             self._pointing = []
@@ -409,6 +417,13 @@ class IntentTracker:
         self.state_ = IntentState()
         self._smoother = RaySmoother(self.params.smoothing_s)
         self._forward_sum = np.zeros(3)
+
+    def __deepcopy__(self, memo: dict) -> IntentTracker:
+        """The params and states are frozen and the forward sum is replaced, never changed in
+        place: only the smoother's histories need copying."""
+        clone = copy.copy(self)
+        clone._smoother = copy.deepcopy(self._smoother, memo)
+        return clone
 
     def _steady_forward(self, observation: Observation) -> Observation:
         """A seated person turns the head, not the torso: the mean of the torso's directions

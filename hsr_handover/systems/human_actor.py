@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 from collections.abc import Sequence
 
@@ -34,6 +35,11 @@ class WorldBodies:
 class _Acting:
     timeline: PostureTimeline
     receiver: Receiver | None
+
+    def __deepcopy__(self, memo: dict) -> _Acting:
+        """Drake copies the state at every update: the timeline is never changed once made
+        (`interrupted` makes a new one), so the copies share it."""
+        return _Acting(self.timeline, copy.deepcopy(self.receiver, memo))
 
 
 class HumanActor(LeafSystem):

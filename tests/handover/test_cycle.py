@@ -323,17 +323,21 @@ def test_a_hand_held_out_short_of_the_object_and_waiting_gets_the_object_brought
     np.testing.assert_allclose(np.linalg.norm(goal - world.hand), OFFER)
 
 
-@pytest.mark.parametrize(
-    "hand",
-    [
-        pytest.param(lambda world, k: world.palm + [0.3 - 0.01 * k, 0, 0.1], id="reaching"),
-        pytest.param(lambda world, k: world.palm + [0.2, 0, -0.35], id="resting"),
-    ],
-)
-def test_a_hand_that_moves_or_rests_is_not_followed_however_long_it_takes(hand):
+def test_a_hand_seen_on_its_way_out_waits_from_where_it_stops():
+    world = _presenting()
+    for k in range(10):  # coming out over a second, nearer than FOLLOW_BEYOND, then still
+        world.hand = world.palm + [0.42 - 0.015 * k, 0.0, 0.1]
+        world.tick()
+    world.tick(NUDGE_S - TICK)
+    assert world.planner.asked[-1][0] == "carry"  # still for less than NUDGE_S
+    world.tick(2 * TICK)
+    assert world.planner.asked[-1][0] == "follow"
+
+
+def test_a_hand_that_moves_is_not_followed_however_long_it_takes():
     world = _presenting()
     for k in range(int(2 * NUDGE_S / TICK)):
-        world.hand = hand(world, k)
+        world.hand = world.palm + [0.3 - 0.01 * k, 0, 0.1]  # reaching for the object
         world.tick()
     assert world.planner.asked[-1][0] == "carry"
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 import math
 
 import numpy as np
@@ -156,6 +157,25 @@ def test_the_dwell_recognises_after_t_max_and_latches():
     assert states[5].target is None and states[5].candidate == "green"
     later = _frames(tracker, [1.2], target=0)[0]  # pointing elsewhere later changes nothing
     assert later.target == "green" and later.recognised_time == recognised[0].recognised_time
+
+
+def test_a_copy_of_the_tracker_goes_on_alone():
+    """Drake copies the tracker (the system's state) at every frame: what the copy sees must
+    not reach the original, which goes on as if never copied."""
+    original, untouched = (IntentTracker(IntentParams(t_max=0.5)) for _ in range(2))
+    for tracker in (original, untouched):
+        _frames(tracker, np.arange(0.0, 0.2, 1 / 30), target=0)
+    copied = copy.deepcopy(original)
+    _frames(copied, np.arange(0.2, 0.6, 1 / 30), target=2)  # the copy sees another request
+    later = np.arange(0.2, 1.0, 1 / 30)
+
+    def summary(states):
+        return [(s.target, s.recognised_time, s.candidate, s.frame.clarity) for s in states]
+
+    assert summary(_frames(original, later, target=0)) == summary(
+        _frames(untouched, later, target=0)
+    )
+    assert original.state_.target == "red"
 
 
 def test_face_less_frames_neither_start_nor_finish_but_do_not_break_a_dwell():

@@ -1,0 +1,69 @@
+"""The handover trial's scoring rules (TrialWatch) on plain observations."""
+
+import math
+
+import pytest
+
+from hsr_handover.experiments.handover_scoring import DROPPED, LIFTED, TrialWatch
+from hsr_handover.experiments.true_clearance import HAND, PERSON, ROBOT, TABLE
+
+START = {"cup": 0.77, "box": 0.78}
+HELD = [(ROBOT, "cup")]  # the fingers on the cup
+
+
+def _carried() -> TrialWatch:
+    watch = TrialWatch("cup")
+    watch.observe(0.0, dict(START), [], "")
+    watch.observe(1.0, START | {"cup": START["cup"] + 2 * LIFTED}, HELD, "")
+    assert watch.score.lifted == {"cup": 1.0} and watch.carrying()
+    return watch
+
+
+def test_an_object_held_out_low_by_the_robot_has_not_dropped():
+    watch = _carried()
+    watch.observe(2.0, START | {"cup": START["cup"]}, HELD, "")
+    assert math.isnan(watch.score.dropped) and watch.carrying()
+
+
+def test_an_object_down_low_touching_nothing_of_the_robot_has_dropped():
+    watch = _carried()
+    watch.observe(2.0, START | {"cup": START["cup"] + DROPPED / 2}, [("cup", TABLE)], "")
+    assert watch.score.dropped == 2.0 and not watch.carrying()
+    assert math.isnan(watch.score.table_contact)  # the object dropped, not carried to the table
+
+
+def test_an_object_the_person_holds_is_taken_not_dropped():
+    watch = _carried()
+    watch.observe(2.0, START | {"cup": 0.9}, HELD + [("cup", HAND)], "cup")
+    watch.observe(3.0, START | {"cup": START["cup"]}, [("cup", HAND)], "cup")
+    assert watch.score.gripped == 2.0 and math.isnan(watch.score.dropped)
+
+
+@pytest.mark.parametrize(
+    ("pair", "field"),
+    [
+        ((ROBOT, TABLE), "table_contact"),
+        (("cup", TABLE), "table_contact"),
+        ((PERSON, ROBOT), "person_contact"),
+        ((ROBOT, HAND), "person_contact"),
+        (("cup", PERSON), "person_contact"),
+    ],
+)
+def test_the_robot_or_what_it_carries_touching_the_table_or_person_is_counted(pair, field):
+    watch = _carried()
+    watch.observe(2.0, START | {"cup": 0.9}, HELD + [pair], "")
+    watch.observe(3.0, START | {"cup": 0.9}, HELD + [pair], "")
+    assert getattr(watch.score, field) == 2.0  # the first time
+
+
+def test_the_carried_object_in_the_persons_hand_and_other_objects_knocked():
+    watch = _carried()
+    watch.observe(2.0, START | {"cup": 0.9}, HELD + [("cup", HAND), (ROBOT, "box")], "")
+    assert math.isnan(watch.score.person_contact)  # the hand is there to take it
+    assert watch.score.knocked == {"box": 2.0}
+
+
+def test_the_table_touched_by_an_object_not_yet_lifted_is_not_the_robots_contact():
+    watch = TrialWatch("cup")
+    watch.observe(0.0, dict(START), [("cup", TABLE), ("box", TABLE)], "")
+    assert math.isnan(watch.score.table_contact) and not watch.carrying()
