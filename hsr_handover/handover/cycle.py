@@ -61,7 +61,10 @@ about 27 cm from the centre of an object the person closes a hand on (a hand's l
 fingertips a few cm short of it), plus the skeleton's few cm of error."""
 OFFER = 0.2
 """m from a hand held out elsewhere that the robot brings the object to: in front of the
-fingers, for the person to close them on (the wrist itself is inside the person's hand)."""
+fingers, for the person to close them on (the wrist itself is inside the person's hand).
+Known flaw: the planning scene's forearm capsule runs on 18 cm past the wrist, 9.5 cm thick
+with its margin, so no plan brings the object this near along the forearm (every follow in the
+reference run's trial 53 found no IK solution)."""
 FOLLOW_BEYOND = 0.45
 """m: a hand held out farther than this from the palm is followed; a nearer one is reaching
 for the object, and the robot holds still for it (following a hand that had just closed on the

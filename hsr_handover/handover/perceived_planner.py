@@ -157,7 +157,7 @@ class PerceivedPlanner:
         ignore = () if held is None else (held.label,)
         with _holding(scene, held):
             found = solve_palm_ik(scene, goal, q, ignore=ignore, base_fixed=True)
-            if not found.ok:  # out of the arm's reach from here (trial 53): the base steps too
+            if not found.ok:  # out of the arm's reach from where the base stands: it steps too
                 found = solve_palm_ik(scene, goal, q, ignore=ignore)
             if not found.ok:
                 return PlannedMotions(False, found.reason, seconds=time.perf_counter() - started)
