@@ -105,8 +105,8 @@ class HandoverScorer:
     it reads the plant after each step and hands what it reads to a `TrialWatch`."""
 
     def __init__(self, simulation: Simulation, target: str):
-        station = self._station = simulation.station
-        self._plant, self._target = station.plant, target
+        station = simulation.station
+        self._plant = station.plant
         self._watch = TrialWatch(target)
         self._owner = geometry_owners(station)
         self._target_geometries = {g for g, owner in self._owner.items() if owner == target}

@@ -337,9 +337,8 @@ class HandoverCycle:
             self._seen_at = p.time
         if p.hand is not None and _distance(p.hand, p.palm) <= REACH:
             self._hand_at_object = p.time
-        tugged, felt_before = self._tug(p) > TUG, self._tugged
-        self._tugged = tugged
-        tugged = tugged and felt_before
+        felt = self._tug(p) > TUG
+        tugged, self._tugged = felt and self._tugged, felt  # felt now and at the last decision
         if tugged:
             self._hand_at_object = p.time
         if p.pull > PULL or tugged:

@@ -84,6 +84,11 @@ def remember(last: PerceivedScene | None, scene: PerceivedScene) -> PerceivedSce
     )
 
 
+def pads_centre(palm_pose: RigidTransform) -> np.ndarray:
+    """The centre between the finger pads (m, world) of a hand whose frame is at `palm_pose`."""
+    return palm_pose.multiply([0.0, 0.0, PAD_OFFSET])
+
+
 def _holding(scene: PlanningScene, held: Held | None):
     return contextlib.nullcontext() if held is None else scene.holding(held.label, held.q_grasp)
 
@@ -112,7 +117,7 @@ class PerceivedPlanner:
 
     def palm(self, q: np.ndarray) -> np.ndarray:
         """The pads' centre (m, world) with the HSR at `q`."""
-        return self.palm_pose(q).multiply([0.0, 0.0, PAD_OFFSET])
+        return pads_centre(self.palm_pose(q))
 
     def palm_pose(self, q: np.ndarray) -> RigidTransform:
         """The hand's frame (PALM_FRAME, where the wrist's sensor reads) with the HSR at `q`."""

@@ -23,7 +23,7 @@ from hsr_handover.effectivity.person_map import RECEIVING_SIDE, HumanArm, receiv
 from hsr_handover.handover.cycle import Cycle, HandoverCycle, Percepts, Phase
 from hsr_handover.handover.gaze import look_at
 from hsr_handover.handover.look_round import LOOK_ROUND_S, look_round_pan
-from hsr_handover.handover.perceived_planner import PerceivedPlanner, remember
+from hsr_handover.handover.perceived_planner import PerceivedPlanner, pads_centre, remember
 from hsr_handover.handover.plan_view import PlanView
 from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY, HEAD_JOINTS
 from hsr_handover.perception.coco18 import keypoint_index
@@ -109,7 +109,7 @@ class HandoverSupervisor(LeafSystem):
                 seen = np.asarray(detection.center, dtype=float)
         person = None if arm is None else arm.shoulder
         palm_pose = self._planner.palm_pose(q)
-        palm = self._planner.palm(q)
+        palm = pads_centre(palm_pose)
         commanded, _, _ = cycle.command(context.get_time())
         pull = (
             0.0
