@@ -17,7 +17,8 @@ from hsr_handover.handover.cycle import PlannedMotions
 from hsr_handover.handover.plan_view import PlanView, palm_path
 from hsr_handover.hsr import GRIPPER_JOINT, PALM_FRAME
 from hsr_handover.planning.grasps import PAD_OFFSET
-from hsr_handover.planning.inverse_kinematics import PalmGoal, solve_palm_ik
+from hsr_handover.planning.inverse_kinematics import IkResult, PalmGoal, solve_palm_ik
+from hsr_handover.planning.offer import object_extent, offer_points
 from hsr_handover.planning.perceived_scene import PerceivedScene
 from hsr_handover.planning.planner import (
     DIP_ALLOWANCE,
@@ -89,8 +90,25 @@ def pads_centre(palm_pose: RigidTransform) -> np.ndarray:
     return palm_pose.multiply([0.0, 0.0, PAD_OFFSET])
 
 
+def _palm_ik(
+    scene: PlanningScene, point: np.ndarray, q: np.ndarray, ignore: tuple[str, ...]
+) -> IkResult:
+    """IK for the pads' centre at `point`, the hand turned as it is at `q`: with the base where
+    it stands, else with a step of the base (out of the arm's reach)."""
+    plant, context = scene.plant, scene.plant_context
+    plant.SetPositions(context, q)
+    palm = plant.GetFrameByName(PALM_FRAME).CalcPoseInWorld(context).rotation().matrix()
+    goal = PalmGoal(point, palm[:, 2], palm[:, 1], 2 * q[scene.index(GRIPPER_JOINT)])
+    found = solve_palm_ik(scene, goal, q, ignore=ignore, base_fixed=True)
+    return found if found.ok else solve_palm_ik(scene, goal, q, ignore=ignore)
+
+
 def _holding(scene: PlanningScene, held: Held | None):
-    return contextlib.nullcontext() if held is None else scene.holding(held.label, held.q_grasp)
+    return (
+        contextlib.nullcontext()
+        if held is None
+        else scene.holding(held.label, held.q_grasp, held.shape)
+    )
 
 
 class PerceivedPlanner:
@@ -150,34 +168,40 @@ class PerceivedPlanner:
         return self._motions(plan, started, person)
 
     def follow(
-        self, q: np.ndarray, v: np.ndarray, hand: np.ndarray, held: Held | None
+        self, q: np.ndarray, v: np.ndarray, aim: np.ndarray, held: Held | None
     ) -> PlannedMotions:
+        """A state-to-state move (ruckig) holding the object out at `aim` (m, world), or, where
+        the object there would be inside the person's perceived capsules, at the nearest point
+        round it where it fits (`offer_points`)."""
         started = time.perf_counter()
         scene = self._planning()
-        plant, context = scene.plant, scene.plant_context
-        plant.SetPositions(context, q)
-        palm = plant.GetFrameByName(PALM_FRAME).CalcPoseInWorld(context).rotation().matrix()
-        opening = 2 * q[scene.index(GRIPPER_JOINT)]
-        goal = PalmGoal(np.asarray(hand, dtype=float), palm[:, 2], palm[:, 1], opening)
         ignore = () if held is None else (held.label,)
+        extent = object_extent(None if held is None else held.shape)
+        reason = "no point at the hand clear of the person"
         with _holding(scene, held):
-            found = solve_palm_ik(scene, goal, q, ignore=ignore, base_fixed=True)
-            if not found.ok:  # out of the arm's reach from where the base stands: it steps too
-                found = solve_palm_ik(scene, goal, q, ignore=ignore)
-            if not found.ok:
-                return PlannedMotions(False, found.reason, seconds=time.perf_counter() - started)
-            motion = retarget(q, v, np.zeros_like(q), found.q, self.limits)
-            if not motion.ok:
-                return PlannedMotions(False, motion.reason, seconds=time.perf_counter() - started)
-            _, positions = motion.sample(FOLLOW_CHECK_S)
-            clearance = min(scene.clearance_at(p, ignore) for p in positions)
-        seconds = time.perf_counter() - started
+            for point in offer_points(aim, scene.scene.person, extent):
+                motion, reason = self._move(scene, q, v, point, ignore)
+                if motion is not None:
+                    motions = (("follow", motion),)
+                    view = PlanView(palm_path((m for _, m in motions), self.palm))
+                    seconds = time.perf_counter() - started
+                    return PlannedMotions(True, "ok", motions, seconds, view=view)
+        return PlannedMotions(False, reason, seconds=time.perf_counter() - started)
+
+    def _move(self, scene: PlanningScene, q, v, point: np.ndarray, ignore: tuple[str, ...]):
+        """The motion that brings the pads' centre to `point` clear of the scene and "ok", or
+        None and why not."""
+        found = _palm_ik(scene, point, q, ignore)
+        if not found.ok:
+            return None, found.reason
+        motion = retarget(q, v, np.zeros_like(q), found.q, self.limits)
+        if not motion.ok:
+            return None, motion.reason
+        _, positions = motion.sample(FOLLOW_CHECK_S)
+        clearance = min(scene.clearance_at(p, ignore) for p in positions)
         if clearance < COLLISION_BOUND - DIP_ALLOWANCE:
-            return PlannedMotions(False, f"the way to the hand comes {clearance:.3f} m near",
-                                  seconds=seconds)  # fmt: skip
-        motions = (("follow", RetargetedMotion(motion)),)
-        view = PlanView(palm_path((m for _, m in motions), self.palm))
-        return PlannedMotions(True, "ok", motions, seconds, view=view)
+            return None, f"the way to the hand comes {clearance:.3f} m near"
+        return RetargetedMotion(motion), "ok"
 
     def retreat(
         self, q: np.ndarray, held: Held | None, let_go: Held | None = None

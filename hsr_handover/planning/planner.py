@@ -19,6 +19,7 @@ from pydrake.trajectories import BsplineTrajectory
 from hsr_handover.effectivity.arm_map import ArmEffectivity
 from hsr_handover.effectivity.person_map import PersonEffectivity
 from hsr_handover.hsr import BASE_JOINTS, GRIPPER_JOINT, GRIPPER_MIMIC_JOINT, PALM_FRAME
+from hsr_handover.perception.object_shapes import ObjectShape
 from hsr_handover.planning.base_route import route_around
 from hsr_handover.planning.grasp_configurations import grasp_configurations
 from hsr_handover.planning.handover_pose import (
@@ -78,11 +79,13 @@ class Motion:
 
 @dataclasses.dataclass(frozen=True)
 class Held:
-    """An object in the hand: its perceived `label` and the configuration `q_grasp` (plant
-    positions) in which the hand closed on it."""
+    """An object in the hand: its perceived `label`, the configuration `q_grasp` (plant
+    positions) in which the hand closed on it and its `shape` as perceived then, standing on
+    the table (lifted, the camera sees it as a column from the table up to its top)."""
 
     label: str
     q_grasp: np.ndarray
+    shape: ObjectShape | None = None
 
 
 @dataclasses.dataclass(frozen=True)
@@ -134,7 +137,11 @@ def plan_grasp(
             ("approach", (label,), found.q_pregrasp, found.q_grasp),
             ("lift", (label,), closed, found.q_lifted))  # fmt: skip
     plan = _plan_legs(scene, label, legs, limits, seconds, found.ik_solves)
-    return dataclasses.replace(plan, held=Held(label, closed)) if plan.ok else plan
+    return (
+        dataclasses.replace(plan, held=Held(label, closed, scene.scene.object_named(label)))
+        if plan.ok
+        else plan
+    )
 
 
 def plan_handover(
@@ -151,7 +158,7 @@ def plan_handover(
     it is. Never raises: an unreachable person gives `reason`."""
     if held is None:
         return _plan_handover(scene, arm_map, person, q_now, limits, ())
-    with scene.holding(held.label, held.q_grasp):
+    with scene.holding(held.label, held.q_grasp, held.shape):
         return _plan_handover(scene, arm_map, person, q_now, limits, (held.label,))
 
 
@@ -178,7 +185,7 @@ def plan_retreat(
                 (RETREAT, ignore, q_back, q_stowed),
             )
         return _plan_legs(scene, RETREAT, legs, limits, seconds, 0)
-    with scene.holding(held.label, held.q_grasp):
+    with scene.holding(held.label, held.q_grasp, held.shape):
         q_stowed = _stowed(scene, q_now, (held.label,), STOWED | STOWED_HOLDING)
         leg = (RETREAT, (held.label,), q_now, q_stowed)
         return _plan_legs(scene, RETREAT, (leg,), limits, seconds, 0)

@@ -161,12 +161,16 @@ class PlanningScene:
             manager.RemoveDeclaration(handle)
 
     @contextlib.contextmanager
-    def holding(self, label: str, q_grasp: np.ndarray) -> Iterator[None]:
+    def holding(
+        self, label: str, q_grasp: np.ndarray, shape: ObjectShape | None = None
+    ) -> Iterator[None]:
         """Within the block, the perceived object `label` moves with the hand, as it sat in the
         hand closed on it at `q_grasp` (plant positions): its solid hangs on the palm's body,
-        an obstacle to all but the robot, and its copy on the table is left out. An object not
-        in the scene changes nothing."""
-        shape = self.scene.object_named(label)
+        an obstacle to all but the robot, and its copy in the scene is left out. `shape` is
+        the object as perceived when grasped (default: as perceived now, which is right only
+        while it still stands where the hand closed on it). An object not in the scene and
+        without a `shape` changes nothing."""
+        shape = self.scene.object_named(label) if shape is None else shape
         if shape is None:
             yield
             return
@@ -183,7 +187,7 @@ class PlanningScene:
             self._scene_graph_context, source, self.plant.GetBodyFrameIdOrThrow(hand.index()),
             instance,
         )  # fmt: skip
-        in_hand, on_table = GeometrySet([held]), GeometrySet(self.geometry[label])
+        in_hand, on_table = GeometrySet([held]), GeometrySet(self.geometry.get(label, []))
         manager = self.scene_graph.collision_filter_manager(self._scene_graph_context)
         handle = manager.ApplyTransient(
             CollisionFilterDeclaration()

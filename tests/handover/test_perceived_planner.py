@@ -8,7 +8,7 @@ import pytest
 from hsr_handover.effectivity.arm_map import load_or_build
 from hsr_handover.handover.perceived_planner import PerceivedPlanner
 from hsr_handover.hsr import BASE_JOINTS
-from hsr_handover.planning.perceived_scene import PerceivedScene
+from hsr_handover.planning.perceived_scene import Capsule, PerceivedScene
 
 
 @pytest.fixture(scope="module")
@@ -50,3 +50,21 @@ def test_a_hand_beyond_the_arms_reach_is_followed_with_a_step_of_the_base(planne
     end = planned.motions[-1][1].state(planned.motions[-1][1].duration)[0]
     np.testing.assert_allclose(planner.palm(end), goal, atol=0.02)
     assert np.linalg.norm(_base(planner, end)[:2] - _base(planner, q)[:2]) > 0.05
+
+
+def test_a_hand_whose_forearm_covers_the_aim_gets_the_object_beside_it():
+    """The aim in front of a held-out hand lies inside the perceived forearm's capsule (the
+    reference run's trial 53): the object is held out beside it instead."""
+    scene_planner = PerceivedPlanner(load_or_build()[0])
+    scene_planner.perceive(PerceivedScene(None), None)
+    q = _arm_out(scene_planner)
+    # As in trial 53: the wrist 32 cm beyond the object, its capsule running on 18 cm past it
+    aim = scene_planner.palm(q) + [0.12, 0.0, 0.0]  # OFFER (20 cm) in front of the wrist
+    forearm = Capsule(aim + [0.46, 0.0, 0.0], aim + [0.02, 0.0, 0.0], 0.095)
+    scene_planner.perceive(PerceivedScene(None, person=(forearm,)), None)
+    planned = scene_planner.follow(q, np.zeros_like(q), aim, None)
+    assert planned.ok, planned.reason
+    end = planned.motions[-1][1].state(planned.motions[-1][1].duration)[0]
+    palm = scene_planner.palm(end)
+    assert np.linalg.norm(palm - aim) < 0.2  # beside the hand, not into it
+    assert forearm.distance(palm)[0] > 0.05

@@ -103,3 +103,20 @@ def test_a_held_object_moves_with_the_hand_and_keeps_its_distance():
         assert scene.clearance_at(q_grasp) < 0  # put back where it stood: on the table's top
     assert HELD not in scene.geometry
     assert scene.clearance_at(q_lifted, ignore=("red",)) == pytest.approx(hand_only)
+
+
+def test_an_object_held_is_placed_by_its_shape_when_grasped_not_as_seen_since():
+    """Carried off, the cup is seen elsewhere as a column from the table up to its top, or not
+    at all; held by its shape at the grasp, it hangs on the hand as it was grasped."""
+    cup = _cup("red", 0.7, 0.0)
+    moved = dataclasses.replace(cup, center=np.array([0.9, 0.1]), height=cup.height + 0.1)
+    clearances = []
+    for objects in ((cup,), (moved,), ()):
+        scene = PlanningScene(PerceivedScene(_table(), objects))
+        scene.set_positions({"arm_lift_joint": 0.2})
+        q_grasp = scene.positions()
+        scene.set_positions({"arm_lift_joint": 0.3})
+        with scene.holding("red", q_grasp, cup):
+            assert HELD in scene.geometry
+            clearances.append(scene.clearance_at(scene.positions()))
+    assert clearances == pytest.approx([0.10 - TABLE_MARGIN] * 3, abs=2e-3)
