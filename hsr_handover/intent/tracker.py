@@ -77,6 +77,7 @@ _RANGES = {  # (low, high, unit, whether low itself is allowed)
     "gaze_pitch_tolerance_deg": (0.0, 90.0, "deg", False),
     "head_gain": (1.0, 3.0, "", True), "face_tilt_deg": (0.0, 90.0, "deg", True),
     "smoothing_s": (0.0, 10.0, "s", True), "steady_deg_s": (0.0, 1000.0, "deg/s", False),
+    "bent_gap_s": (0.0, 10.0, "s", True),
 }  # fmt: skip
 
 
@@ -98,6 +99,10 @@ class IntentParams:
     smoothing_s: the rays are averaged over the frames of the last `smoothing_s` seconds.
     steady_deg_s: the pointing ray counts only while it turns slower than this (deg/s) over
     that window: a gesture is read in its hold, not while the arm sweeps toward the target.
+    bent_gap_s: how long (s) a pointing arm may read bent, or go unseen, before its gesture
+    ends; meanwhile its frames are judged with the rays it showed in the last `smoothing_s`
+    (an arm pointing across the body or at the camera is foreshortened, and its lifted elbow
+    lands on the forearm: the elbow angle of a held arm flickers between 100 and 170 deg).
     Ranges: each in [low, high] of `_RANGES`; pointing_ray one of POINTING_RAYS.
     """
 
@@ -109,8 +114,9 @@ class IntentParams:
     pointing_ray: str = "shoulder_wrist"
     head_gain: float = 1.0 / STIEFELHAGEN_HEAD_FRACTION
     face_tilt_deg: float = 30.0
-    smoothing_s: float = 0.6
+    smoothing_s: float = 1.0
     steady_deg_s: float = 30.0
+    bent_gap_s: float = 0.2
 
     def __post_init__(self) -> None:
         for name, (low, high, unit, closed) in _RANGES.items():
@@ -339,15 +345,16 @@ class RaySmoother:
     """The mean of the rays seen over the last `window` seconds, and how fast the pointing ray
     turns: the angle between the mean directions of the window's older and newer halves over
     the time between them (averaging first, so that the keypoints' jitter does not read as
-    motion). A pointing ray's history restarts when the arm changes or stops pointing. A frame
+    motion). A pointing ray's history restarts when the arm changes, or when it stops pointing
+    for longer than `gap` seconds (until then, the window's rays stand for it). A frame
     without a face adds nothing to the face's history but is given the window's mean: the face
     seen in the last `window` seconds, never a guess (OpenPose drops a face point in about a
     quarter of frames; without a face seen in the window, there is no face)."""
 
     MIN_FRAMES = 4  # for a turning rate: two frames in each half
 
-    def __init__(self, window: float):
-        self.window = window
+    def __init__(self, window: float, gap: float = 0.0):
+        self.window, self.gap = window, gap
         self._pointing: list[tuple[float, Ray]] = []
         self._face: list[tuple[float, Ray]] = []
         self._arm: str | None = None
@@ -360,7 +367,12 @@ class RaySmoother:
         return clone
 
     def smooth(self, time: float, observation: Observation) -> Observation:
-        if observation.pointing is None or observation.arm != self._arm:
+        if observation.pointing is None and self._pointing:
+            if time - self._pointing[-1][0] <= self.gap + 1e-9:  # a gesture in a gap goes on
+                observation = dataclasses.replace(observation, arm=self._arm)
+            else:
+                self._pointing = []
+        elif observation.arm != self._arm:
             self._pointing = []
         self._arm = observation.arm
         pointing = self._add(self._pointing, time, observation.pointing)
@@ -415,7 +427,7 @@ class IntentTracker:
     def __init__(self, params: IntentParams | None = None):
         self.params = IntentParams() if params is None else params
         self.state_ = IntentState()
-        self._smoother = RaySmoother(self.params.smoothing_s)
+        self._smoother = RaySmoother(self.params.smoothing_s, self.params.bent_gap_s)
         self._forward_sum = np.zeros(3)
 
     def __deepcopy__(self, memo: dict) -> IntentTracker:

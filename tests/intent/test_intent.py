@@ -327,3 +327,39 @@ def test_a_held_arm_is_recognised_at_a_slow_camera_rate_too(rate_hz):
     states = _frames(tracker, np.arange(0.0, 2.0, 1 / rate_hz))
     assert states[-1].target == "green"
     assert states[-1].recognised_time <= 0.5 + 0.4 + 1e-9
+
+
+def _bent(points: np.ndarray, arm: str) -> np.ndarray:
+    """The arm's elbow lifted 12 cm off the shoulder-wrist line, as a foreshortened arm's is
+    when its elbow lands on the forearm's depth: the elbow angle reads well under 150 deg."""
+    bent = points.copy()
+    bent[keypoint_index(f"{arm[0]}_elbow")] += [0.0, 0.0, -0.12]
+    return bent
+
+
+def test_an_arm_that_reads_bent_for_a_frame_in_three_still_points_within_the_gap():
+    label, center = CUPS[1]
+    points, confidence = keypoints(look_at=center, point_with="right", point_at=center)
+    bent = _bent(points, "right")
+    right = keypoint_index("r_shoulder"), keypoint_index("r_elbow"), keypoint_index("r_wrist")
+    assert elbow_angle_deg(*bent[list(right)]) < IntentParams().straight_arm_deg - 10.0
+
+    def recognised(gap: float) -> bool:
+        tracker = IntentTracker(IntentParams(t_max=0.5, smoothing_s=0.6, bent_gap_s=gap))
+        for frame, time in enumerate(np.arange(0.0, 2.0, 1 / 30)):
+            seen = bent if frame % 3 == 2 else points
+            state = tracker.update(time, seen, confidence, CUPS)
+        return state.target == label
+
+    assert recognised(0.2) and not recognised(0.0)
+
+
+def test_an_arm_lowered_for_longer_than_the_gap_ends_its_gesture():
+    smoother = RaySmoother(1.0, gap=0.2)
+    ray = Ray.through([0, 0, 0], [1, 0, 0])
+    smoother.smooth(0.0, Observation("right", 170.0, ray))
+    within = smoother.smooth(0.15, Observation())
+    assert within.arm == "right" and within.pointing is not None
+    assert smoother.smooth(0.45, Observation()).pointing is None  # 0.45 s since it last pointed
+    after = smoother.smooth(0.5, Observation("right", 170.0, Ray.through([0, 0, 0], [0, 1, 0])))
+    np.testing.assert_allclose(after.pointing.direction, [0, 1, 0])  # a new gesture
