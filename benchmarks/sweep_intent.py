@@ -33,8 +33,9 @@ GRID = {
     "gaze_tolerance_deg": (8.0, 12.0),
     "t_max": (0.3, 0.5),
     "steady_deg_s": (30.0, 1000.0),
-    "face_tilt_deg": (23.0, 30.0),
-    "gaze_pitch_tolerance_deg": (6.0, 8.0, 12.0, 90.0),
+    "smoothing_s": (0.6, 1.0),
+    "bent_gap_s": (0.0, 0.2),
+    "gaze_pitch_tolerance_deg": (8.0, 90.0),
 }
 
 

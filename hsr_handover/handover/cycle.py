@@ -62,9 +62,9 @@ fingertips a few cm short of it), plus the skeleton's few cm of error."""
 OFFER = 0.2
 """m from a hand held out elsewhere that the robot aims to bring the object to: in front of the
 fingers, for the person to close them on (the wrist itself is inside the person's hand). Along
-the forearm's line that point lies inside the perceived forearm's capsule, so the planner lifts
-the object over the hand (`planning.offer`): every follow of the reference run's trial 53 found
-no IK solution at the point itself."""
+the forearm's line that point lies inside the perceived forearm's capsule, so the planner holds
+the object out at the nearest point beside the hand where it fits (`planning.offer`): every
+follow of the reference run's trial 53 found no IK solution at the point itself."""
 FOLLOW_BEYOND = 0.45
 """m: a hand held out farther than this from the palm is followed; a nearer one is reaching
 for the object, and the robot holds still for it (following a hand that had just closed on the
@@ -168,7 +168,7 @@ class CyclePlanner(Protocol):
 
     def follow(self, q: np.ndarray, v: np.ndarray, aim: np.ndarray, held: object):
         """State to state, to hold the object out at `aim` (m, world: OFFER in front of the
-        person's hand), or above it where the person's perceived hand leaves no room there."""
+        person's hand), or beside it where the person's perceived hand leaves no room there."""
 
     def retreat(self, q: np.ndarray, held: object, let_go: object = None) -> PlannedMotions:
         """Back to the ready posture, with the object `held` or (None) without; `let_go` is the

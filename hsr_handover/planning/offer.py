@@ -23,6 +23,9 @@ OFFER_SEARCH = 0.2
 capsule's axis (its radius with the margin 9.5 cm, a cup's extent 8 cm, the IK's 2 cm)."""
 OFFER_STEP = 0.02  # m between the points tried
 OFFER_TRIES = 3  # points handed on to the inverse kinematics, nearest first
+FINGERS_EXTENT = 0.07
+"""m from the pads' centre that the fingers reach (their tips 5 cm past it, a finger's width
+to either side of an object): the least room the hand needs, holding anything or nothing."""
 
 
 def _lattice() -> np.ndarray:
@@ -36,12 +39,8 @@ def _lattice() -> np.ndarray:
     return offsets[order]
 
 
-_OFFSETS = _lattice()
-
-
-FINGERS_EXTENT = 0.07
-"""m from the pads' centre that the fingers reach (their tips 5 cm past it, a finger's width
-to either side of an object): the least room the hand needs, holding anything or nothing."""
+OFFER_OFFSETS = _lattice()
+"""The offsets (m) tried round an aim, nearest first."""
 
 
 def object_extent(shape: ObjectShape | None) -> float:
@@ -57,7 +56,7 @@ def offer_points(aim: np.ndarray, person: Sequence[Capsule], extent: float) -> l
     """Up to OFFER_TRIES points within OFFER_SEARCH of `aim` (m, world), nearest first, where
     an object reaching `extent` (m) from its centre keeps MIN_DISTANCE from every capsule of
     the `person`: `aim` itself when it fits there."""
-    points = np.asarray(aim, dtype=float) + _OFFSETS
+    points = np.asarray(aim, dtype=float) + OFFER_OFFSETS
     if not person:
         return [points[0]]
     clearances = np.min([capsule.distance(points) for capsule in person], axis=0)

@@ -7,8 +7,8 @@ import numpy as np
 from hsr_handover.perception.object_shapes import CYLINDER, ObjectShape
 from hsr_handover.planning.inverse_kinematics import MIN_DISTANCE
 from hsr_handover.planning.offer import (
-    _OFFSETS,
     FINGERS_EXTENT,
+    OFFER_OFFSETS,
     OFFER_SEARCH,
     OFFER_TRIES,
     object_extent,
@@ -38,7 +38,7 @@ def test_an_aim_inside_the_forearm_moves_to_the_nearest_point_clear_of_it():
         assert np.linalg.norm(point - AIM) <= OFFER_SEARCH + 1e-9
     # the nearest: no point of the lattice nearer the aim fits
     nearest = float(np.linalg.norm(points[0] - AIM))
-    inside = AIM + _OFFSETS[np.linalg.norm(_OFFSETS, axis=1) < nearest - 1e-9]
+    inside = AIM + OFFER_OFFSETS[np.linalg.norm(OFFER_OFFSETS, axis=1) < nearest - 1e-9]
     assert (FOREARM.distance(inside) < needed).all()
     # square to the forearm, over it rather than under it
     assert points[0][2] > AIM[2]
