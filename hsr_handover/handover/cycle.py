@@ -104,6 +104,15 @@ PATIENCE_S = 6.0
 """s the robot keeps trying a plan that finds no way, on fresh percepts, before it gives up: a
 pointing arm held over the object blocks every grasp until the person lowers it (6 of the
 reference run's 7 unreachable trials planned while the person still pointed)."""
+EMPTY_S = 0.5
+"""s the robot holds still after its fingers close on nothing while presenting, with no hand
+seen at the object nor tug felt, before it looks where the object went: a dropped object falls
+from the presenting height to the table in about 0.25 s."""
+STILL_UP = 0.08
+"""m above where the object stood on the table that the camera must see it, EMPTY_S after the
+fingers closed on nothing, to count it taken rather than dropped: a hand the robot's own arm
+hid from its camera drew it out (the reference run's trials 17 and 28: the wrist unseen for
+the whole presentation, the tug pointing down and away). Held out, it is 15-30 cm up."""
 RETRY_EVERY_S = 1.0  # s between those tries
 FOLLOW_EVERY_S = 1.0  # s between tries to follow the hand (a hand out of reach fails each)
 WAIT_S = 12.0  # s the robot presents the object before it gives up (HandoverSim's 13 s limit)
@@ -224,6 +233,7 @@ class HandoverCycle:
         self._held_width = math.inf  # the opening closed on the object
         self._followed_at = -math.inf  # when it last tried to follow the hand
         self._object_start: np.ndarray | None = None
+        self._emptied_at: float | None = None  # when the fingers closed on nothing, presenting
         self._after_retreat: tuple[Phase, Failure | None, str] = (Phase.DONE, None, "")
         self._lift_motion: tuple[str, Motion] | None = None
         self._person: np.ndarray | None = None
@@ -351,7 +361,8 @@ class HandoverCycle:
         if drawn_out or p.opening > self._held_width + SPREAD:
             self._let_go(p)  # the person has it, drawn out of the fingers or through them
             return
-        if self._dropped(p):
+        if p.opening < HELD_OPENING:
+            self._empty_fingers(p)
             return
         if p.time - self._since > WAIT_S:
             reason = f"no hand came for the object in {WAIT_S:.0f} s; holding it"
@@ -399,6 +410,21 @@ class HandoverCycle:
         along = float(change @ toward) / distance
         aligned = along >= math.cos(math.radians(TUG_CONE_DEG)) * float(np.linalg.norm(change))
         return along if aligned else 0.0
+
+    def _empty_fingers(self, p: Percepts) -> None:
+        """Fingers closed on nothing with no hand seen at the object nor tug felt: dropped, or
+        taken by a hand out of the camera's sight. The robot holds still for EMPTY_S, then the
+        camera tells: an object seen STILL_UP above where it stood is in the person's hand."""
+        if self._emptied_at is None:
+            self._emptied_at = p.time
+            self._hold_still(p)
+        if p.time - self._emptied_at < EMPTY_S:
+            return
+        seen, start = p.object_seen, self._object_start
+        if seen is not None and start is not None and seen[2] > start[2] + STILL_UP:
+            self._let_go(p)
+            return
+        self._dropped(p)
 
     def _hold_still(self, p: Percepts) -> None:
         """Drop any motion and stand where the joints are."""

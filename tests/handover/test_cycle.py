@@ -10,6 +10,7 @@ import pytest
 
 from hsr_handover.handover.cycle import (
     CLOSED,
+    EMPTY_S,
     LET_GO,
     LOOK_S,
     LOST_S,
@@ -21,6 +22,7 @@ from hsr_handover.handover.cycle import (
     RETRY_EVERY_S,
     SETTLE_S,
     SPREAD,
+    STILL_UP,
     TAKEN_S,
     TUG,
     WAIT_S,
@@ -384,8 +386,24 @@ def test_fingers_closing_with_no_hand_at_the_object_lately_is_a_drop():
     world.hand = world.palm + [0.0, 0.0, REACH + 0.2]
     world.tick(TAKEN_S + TICK)
     world.opening = 0.0
+    world.seen = OBJECT.copy()  # fallen back onto the table
+    world.tick(EMPTY_S - TICK)
+    assert world.cycle.cycle.phase is Phase.PRESENT  # it looks where the object went first
     record = world.until(Phase.FAILED)
     assert record.failure is Failure.DROPPED
+
+
+def test_fingers_closing_with_the_object_still_up_and_the_hand_unseen_is_a_handover():
+    """A hand hidden by the robot's own arm drew the object out, its tug pointing away from
+    the person: the camera sees the object still up, in the person's hand."""
+    world = _presenting()
+    world.opening = 0.0
+    world.seen = OBJECT + [0.3, 0.0, STILL_UP + 0.1]
+    world.tick(EMPTY_S - TICK)
+    assert world.cycle.cycle.phase is Phase.PRESENT
+    np.testing.assert_array_equal(world.cycle.command(world.time)[1], 0.0)  # standing still
+    record = world.until(Phase.DONE)
+    assert record.failure is None and Phase.RELEASE.value in record.phase_times
 
 
 def test_a_copy_steps_on_its_own():
