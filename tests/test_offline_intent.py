@@ -40,15 +40,15 @@ def _line(output: str, label: str) -> str:
 def test_offline_intent_recognises_what_the_robot_did_online_and_when(recorded, capsys):
     folder, session, printed = recorded
     online = _line(printed, "intent:")
-    assert online == "intent:      red (recognised at 3.00 s)"
+    assert online == "intent:      red (recognised at 2.77 s)"
     summary = folder / "intent.json"
     assert main(["intent", str(session), "--json", str(summary)]) == 0
     out = capsys.readouterr().out
     assert _line(out, "intent:") == online
     assert _line(out, "frames:") == "frames:      105 at 30 Hz"
     written = json.loads(summary.read_text())
-    assert written["target"] == "red" and written["recognised_time"] == pytest.approx(3.0)
-    assert written["frame"] == 90
+    assert written["target"] == "red" and written["recognised_time"] == pytest.approx(83 / 30)
+    assert written["frame"] == 83
 
 
 def test_run_refuses_to_record_over_another_session(recorded, tmp_path, capsys):
