@@ -364,6 +364,7 @@ class HandoverCycle:
         if p.opening < HELD_OPENING:
             self._empty_fingers(p)
             return
+        self._emptied_at = None  # holding again (a glitch of the opening's sensor)
         if p.time - self._since > WAIT_S:
             reason = f"no hand came for the object in {WAIT_S:.0f} s; holding it"
             self._fail_and_retreat(p, Failure.TIMEOUT, reason, holding=True)

@@ -4,7 +4,6 @@ seeded by the arm's effectivity map; the person's reach comes from the perceived
 
 from __future__ import annotations
 
-import contextlib
 import dataclasses
 import time
 
@@ -24,6 +23,7 @@ from hsr_handover.planning.planner import (
     DIP_ALLOWANCE,
     Held,
     Plan,
+    holding,
     plan_grasp,
     plan_handover,
     plan_retreat,
@@ -91,24 +91,12 @@ def pads_centre(palm_pose: RigidTransform) -> np.ndarray:
 
 
 def _palm_ik(
-    scene: PlanningScene, point: np.ndarray, q: np.ndarray, ignore: tuple[str, ...]
+    scene: PlanningScene, goal: PalmGoal, q: np.ndarray, ignore: tuple[str, ...]
 ) -> IkResult:
-    """IK for the pads' centre at `point`, the hand turned as it is at `q`: with the base where
-    it stands, else with a step of the base (out of the arm's reach)."""
-    plant, context = scene.plant, scene.plant_context
-    plant.SetPositions(context, q)
-    palm = plant.GetFrameByName(PALM_FRAME).CalcPoseInWorld(context).rotation().matrix()
-    goal = PalmGoal(point, palm[:, 2], palm[:, 1], 2 * q[scene.index(GRIPPER_JOINT)])
+    """IK for the hand at `goal`: with the base where it stands at `q`, else with a step of the
+    base (out of the arm's reach)."""
     found = solve_palm_ik(scene, goal, q, ignore=ignore, base_fixed=True)
     return found if found.ok else solve_palm_ik(scene, goal, q, ignore=ignore)
-
-
-def _holding(scene: PlanningScene, held: Held | None):
-    return (
-        contextlib.nullcontext()
-        if held is None
-        else scene.holding(held.label, held.q_grasp, held.shape)
-    )
 
 
 class PerceivedPlanner:
@@ -178,9 +166,13 @@ class PerceivedPlanner:
         ignore = () if held is None else (held.label,)
         extent = object_extent(None if held is None else held.shape)
         reason = "no point at the hand clear of the person"
-        with _holding(scene, held):
+        palm = self.palm_pose(q).rotation().matrix()  # the hand keeps the turn it has
+        goal = PalmGoal(np.asarray(aim, dtype=float), palm[:, 2], palm[:, 1],
+                        2 * q[scene.index(GRIPPER_JOINT)])  # fmt: skip
+        with holding(scene, held):
             for point in offer_points(aim, scene.scene.person, extent):
-                motion, reason = self._move(scene, q, v, point, ignore)
+                motion, reason = self._move(scene, q, v, dataclasses.replace(goal, point=point),
+                                            ignore)  # fmt: skip
                 if motion is not None:
                     motions = (("follow", motion),)
                     view = PlanView(palm_path((m for _, m in motions), self.palm))
@@ -188,10 +180,10 @@ class PerceivedPlanner:
                     return PlannedMotions(True, "ok", motions, seconds, view=view)
         return PlannedMotions(False, reason, seconds=time.perf_counter() - started)
 
-    def _move(self, scene: PlanningScene, q, v, point: np.ndarray, ignore: tuple[str, ...]):
-        """The motion that brings the pads' centre to `point` clear of the scene and "ok", or
-        None and why not."""
-        found = _palm_ik(scene, point, q, ignore)
+    def _move(self, scene: PlanningScene, q, v, goal: PalmGoal, ignore: tuple[str, ...]):
+        """The motion that brings the hand to `goal` clear of the scene and "ok", or None and
+        why not."""
+        found = _palm_ik(scene, goal, q, ignore)
         if not found.ok:
             return None, found.reason
         motion = retarget(q, v, np.zeros_like(q), found.q, self.limits)

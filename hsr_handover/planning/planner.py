@@ -9,6 +9,7 @@ Every stage's wall time is kept, so the planning benchmark reports where the tim
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import time
 
@@ -88,6 +89,13 @@ class Held:
     shape: ObjectShape | None = None
 
 
+def holding(scene: PlanningScene, held: Held | None):
+    """`scene.holding` for the object `held` as grasped (nothing for None)."""
+    if held is None:
+        return contextlib.nullcontext()
+    return scene.holding(held.label, held.q_grasp, held.shape)
+
+
 @dataclasses.dataclass(frozen=True)
 class Plan:
     """`ok` with the `motions` ending at the configuration `goal`, or not with the `reason`;
@@ -158,7 +166,7 @@ def plan_handover(
     it is. Never raises: an unreachable person gives `reason`."""
     if held is None:
         return _plan_handover(scene, arm_map, person, q_now, limits, ())
-    with scene.holding(held.label, held.q_grasp, held.shape):
+    with holding(scene, held):
         return _plan_handover(scene, arm_map, person, q_now, limits, (held.label,))
 
 
@@ -185,7 +193,7 @@ def plan_retreat(
                 (RETREAT, ignore, q_back, q_stowed),
             )
         return _plan_legs(scene, RETREAT, legs, limits, seconds, 0)
-    with scene.holding(held.label, held.q_grasp, held.shape):
+    with holding(scene, held):
         q_stowed = _stowed(scene, q_now, (held.label,), STOWED | STOWED_HOLDING)
         leg = (RETREAT, (held.label,), q_now, q_stowed)
         return _plan_legs(scene, RETREAT, (leg,), limits, seconds, 0)

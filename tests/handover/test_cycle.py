@@ -415,3 +415,15 @@ def test_a_copy_steps_on_its_own():
     world.until(Phase.GRASP)
     assert clone.cycle.phase is Phase.APPROACH
     assert "grasp" not in clone.cycle.phase_times
+
+
+def test_fingers_that_hold_again_restart_the_wait_before_judging_them_empty():
+    world = _presenting()
+    world.opening, world.seen = 0.0, OBJECT.copy()  # a glitch: empty for a moment
+    world.tick(EMPTY_S - 2 * TICK)
+    world.opening = 0.06  # holding again
+    world.tick(1.0)
+    world.opening = 0.0  # now empty for good
+    world.tick(EMPTY_S - TICK)
+    assert world.cycle.cycle.phase is Phase.PRESENT  # waited afresh, not judged at once
+    assert world.until(Phase.FAILED).failure is Failure.DROPPED
