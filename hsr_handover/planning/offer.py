@@ -16,11 +16,12 @@ import numpy as np
 from hsr_handover.perception.object_shapes import ObjectShape
 from hsr_handover.planning.inverse_kinematics import MIN_DISTANCE
 from hsr_handover.planning.perceived_scene import Capsule
-from hsr_handover.planning.planning_scene import OBJECT_MARGIN
+from hsr_handover.planning.planning_scene import HELD_MARGIN, OBJECT_MARGIN
 
-OFFER_SEARCH = 0.2
+OFFER_SEARCH = 0.24
 """m round the aim searched for a point where the object fits: enough for an aim on the forearm
-capsule's axis (its radius with the margin 9.5 cm, a cup's extent 8 cm, the IK's 2 cm)."""
+capsule's axis (its radius with the margin 9.5 cm, a held cup's extent 10.3 cm, the IK's
+2 cm)."""
 OFFER_STEP = 0.02  # m between the points tried
 OFFER_TRIES = 3  # points handed on to the inverse kinematics, nearest first
 FINGERS_EXTENT = 0.07
@@ -48,7 +49,8 @@ def object_extent(shape: ObjectShape | None) -> float:
     (None: nothing, or unknown), as the planning scene widens the object."""
     if shape is None:
         return FINGERS_EXTENT
-    held = np.hypot(shape.radius + OBJECT_MARGIN, (shape.height + OBJECT_MARGIN) / 2)
+    margin = OBJECT_MARGIN + HELD_MARGIN
+    held = np.hypot(shape.radius + margin, (shape.height + margin) / 2)
     return float(max(held, FINGERS_EXTENT))
 
 

@@ -12,6 +12,7 @@ from hsr_handover.perception.table_fit import TableEstimate
 from hsr_handover.planning.perceived_scene import Capsule, PerceivedScene
 from hsr_handover.planning.planning_scene import (
     HELD,
+    HELD_MARGIN,
     OBJECT_MARGIN,
     PERSON,
     TABLE,
@@ -103,6 +104,23 @@ def test_a_held_object_moves_with_the_hand_and_keeps_its_distance():
         assert scene.clearance_at(q_grasp) < 0  # put back where it stood: on the table's top
     assert HELD not in scene.geometry
     assert scene.clearance_at(q_lifted, ignore=("red",)) == pytest.approx(hand_only)
+
+
+def test_a_held_object_is_widened_by_the_grips_margin():
+    """Held where it stood, a cup 20 cm beside another is HELD_MARGIN nearer to it than two
+    standing cups are: the sides of both are widened by OBJECT_MARGIN, the held one's by
+    HELD_MARGIN more."""
+    held, neighbour = _cup("red", 0.7, 0.0), _cup("blue", 0.7, 0.2)
+    scene = PlanningScene(PerceivedScene(_table(), (held, neighbour)))
+    scene.set_positions({"arm_lift_joint": 0.2})
+    q_grasp = scene.positions()
+    gap = 0.2 - 2 * (0.035 + OBJECT_MARGIN)
+    with scene.holding("red", q_grasp):
+        pairs = scene.query().ComputeSignedDistancePairwiseClosestPoints(0.5)
+        (held_id,) = scene.geometry[HELD]
+        (blue_id,) = scene.geometry["blue"]
+        pair = [p for p in pairs if {p.id_A, p.id_B} == {held_id, blue_id}]
+        assert pair[0].distance == pytest.approx(gap - HELD_MARGIN, abs=1e-3)
 
 
 def test_an_object_held_is_placed_by_its_shape_when_grasped_not_as_seen_since():
