@@ -10,5 +10,8 @@ from __future__ import annotations
 BREUER_POINTING_ERROR_DEG = 7.3
 """Mean error of the forearm's pointing direction (Breuer et al. 2010), whose robot found 86.6 %
 of targets 23 cm apart from it."""
+BREUER_TARGETS_FOUND = 0.866
+"""Share of targets 23 cm apart that the forearm's pointing direction found (Breuer et al.
+2010)."""
 STIEFELHAGEN_HEAD_FRACTION = 0.689
 """The head's share of a gaze shift; the eyes make the rest (Stiefelhagen and Zhu 2002)."""

@@ -188,6 +188,11 @@ def test_results_are_written_as_csv_json_text_and_a_figure(base, box_trial, refu
     write_csv(experiment.rows(), tmp_path / "h.csv")
     lines = (tmp_path / "h.csv").read_text().splitlines()
     assert len(lines) == 1 + 5 and "trial crashed" in lines[-1]
+    # Where each person's arm really pointed, crashed trials too: the wrong-object trials' why
+    header, *cells = (line.split(",") for line in lines)
+    column = header.index("arm_nearest")
+    names = {obj.name for obj in base.objects}
+    assert all(row[column] in names for row in cells)
     plot(summary, tmp_path / "h.png")
     assert (tmp_path / "h.png").stat().st_size > 10_000
     text = "\n".join(summary_lines(summary))

@@ -11,6 +11,7 @@ import sys
 import pytest
 
 from hsr_handover.cli import main
+from hsr_handover.experiments.arm_aim import arm_aim
 from hsr_handover.experiments.experiment import replay_name
 from hsr_handover.experiments.intent import IntentExperiment, run_intent_trial, summarise
 from hsr_handover.experiments.intent_percepts import replay_intent
@@ -183,3 +184,34 @@ def test_ray_address_without_ray_is_a_one_line_usage_error(capsys, monkeypatch):
     code = main(["experiment", "intent", scenario, "--ray-address", "127.0.0.1:6379"])
     error = capsys.readouterr().err.strip()
     assert code == 2 and error == f"error: {RAY_MISSING}"
+
+
+def test_an_exact_persons_arm_points_at_the_target_and_a_distractors_at_nothing(base):
+    exact = copy.deepcopy(base)
+    exact.person.imprecision = ImprecisionConfig(0.0, 1.0, 0.0)
+    *requests, distractor = make_trials(exact, 3, 1, seed=2)
+    for trial in requests:
+        aim = arm_aim(trial.scenario)
+        assert aim.nearest == trial.target and aim.error_deg < 1e-3
+    assert arm_aim(distractor.scenario) is None
+
+
+def test_the_arms_error_is_the_drawn_one_and_misaimed_requests_are_counted(base):
+    """At 20 degrees' mean error most arms point nearer a neighbour (the cups are 12-14
+    degrees apart from the shoulder); the summary counts them and those read right anyway."""
+    sloppy = copy.deepcopy(base)
+    sloppy.person.imprecision = ImprecisionConfig(20.0, 0.689, 0.08)
+    trials = make_trials(sloppy, 30, 0, seed=5)
+    aims = [arm_aim(trial.scenario) for trial in trials]
+    assert 14.0 < sum(aim.error_deg for aim in aims) / len(aims) < 26.0
+    misaimed = [aim.nearest != trial.target for aim, trial in zip(aims, trials, strict=True)]
+    assert sum(misaimed) >= 10
+    recognised = [trial.target if index % 2 else "" for index, trial in enumerate(trials)]
+    summary = summarise(IntentExperiment(trials, _outcomes(trials, recognised), sloppy, 1, 1.0))
+    arm = summary["arm_alone"]
+    assert arm["misaimed"] == sum(misaimed)
+    assert arm["nearest_target_rate"] == pytest.approx(1 - sum(misaimed) / 30)
+    read_right = sum(m and index % 2 == 1 for index, m in enumerate(misaimed))
+    assert arm["misaimed_recognised"] == read_right
+    assert arm["breuer"]["targets_found"] == pytest.approx(0.866)
+    assert "Breuer et al.: 86.6 %" in "\n".join(summary_lines(summary))

@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
+from hsr_handover.experiments.arm_aim import with_arm_aims
 from hsr_handover.experiments.experiment import (
     TrialExperiment,
     name_replay,
@@ -150,6 +151,9 @@ class HandoverExperiment(TrialExperiment):
         return {"target": trial.target, "arm": trial.arm, "takes": trial.takes,
                 "retrieved": False, "handed_over": False, "graceful": False,
                 "failure": "trial crashed"}  # fmt: skip
+
+    def rows(self) -> list[dict]:
+        return with_arm_aims(super().rows(), [trial.scenario for trial in self.trials])
 
 
 def run_handover_experiment(

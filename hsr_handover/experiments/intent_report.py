@@ -21,7 +21,7 @@ from hsr_handover.experiments.reporting import (  # noqa: E402
 CSV_COLUMNS = (
     "index", "kind", "target", "arm", "recognised", "latency_s", "recognised_time_s",
     "confidence", "seed", "person_height_m", "person_x_m", "person_y_m", "person_yaw_rad",
-    "sim_s", "wall_s", "error",
+    "sim_s", "wall_s", "arm_nearest", "arm_error_deg", "error",
 )  # fmt: skip
 
 
@@ -44,11 +44,26 @@ def summary_lines(summary: dict) -> list[str]:
         + percent(summary["false_trigger_rate"]),
         f"latency from pointing onset: median {format_value(latency['median'], '.2f', ' s')}, "
         f"p95 {format_value(latency['p95'], '.2f', ' s')}",
+        _arm_alone_line(summary["arm_alone"]),
         f"failed trials: {summary['failed_trials']}",
         *(f"  trial {f['index']}: {f['error']}" for f in summary["failures"]),
         f"wall time {summary['wall_s']:.0f} s",
     ]
     return lines
+
+
+def _arm_alone_line(arm: dict) -> str:
+    """How hard the gestures were: the arm alone, beside Breuer et al.'s forearm."""
+    percent = lambda value: format_value(100 * value, ".1f", " %")  # noqa: E731
+    degrees = lambda value: format_value(value, ".1f", " deg")  # noqa: E731
+    breuer = arm["breuer"]
+    return (
+        f"the person's arm alone pointed nearest the target in "
+        f"{percent(arm['nearest_target_rate'])} of requests, mean error "
+        f"{degrees(arm['error_deg_mean'])} (Breuer et al.: {percent(breuer['targets_found'])}, "
+        f"{degrees(breuer['error_deg_mean'])}); of the {arm['misaimed']} that pointed nearer "
+        f"another object, {arm['misaimed_recognised']} were read right"
+    )
 
 
 def plot(summary: dict, path: Path) -> None:
