@@ -86,7 +86,8 @@ while it moves toward the hand, the robot stops there and feels again."""
 SPREAD = 0.015
 """m the fingers may be forced open beyond the object's width, while presenting, before the
 robot lets go: the person draws the object out between them (the gripper yields before the
-arm does, so the palm is not pulled)."""
+arm does, so the palm is not pulled). Not when the wrist feels the object knocked across
+(`_knocked`): a hand striking it on its way in forces them open too."""
 TUG = 3.0
 """N: the wrist's sensor feeling the load pulled this much harder toward the person than while
 it was carried, at two decisions in a row (0.1 s apart), means the person has hold of it.
@@ -116,7 +117,10 @@ the whole presentation, the tug pointing down and away). Held out, it is 15-30 c
 RETRY_EVERY_S = 1.0  # s between those tries
 FOLLOW_EVERY_S = 1.0  # s between tries to follow the hand (a hand out of reach fails each)
 WAIT_S = 12.0  # s the robot presents the object before it gives up (HandoverSim's 13 s limit)
-LOST_S = 2.0  # s without seeing the person while presenting: the person withdrew
+LOST_S = 2.0
+"""s while presenting without seeing the person (both shoulders) or their receiving hand: the
+person withdrew. The robot's own arm often hides a shoulder while the hand takes the object
+(the reference run's trial 46 gave up on a person pulling at the object, wrist in view)."""
 
 
 class Motion(Protocol):
@@ -344,7 +348,7 @@ class HandoverCycle:
         self._carried_force = p.wrist_force
 
     def _present(self, p: Percepts) -> None:
-        if p.person is not None:
+        if p.person is not None or p.hand is not None:
             self._seen_at = p.time
         if p.hand is not None and _distance(p.hand, p.palm) <= REACH:
             self._hand_at_object = p.time
@@ -358,7 +362,8 @@ class HandoverCycle:
                 return
             self._hold_still(p)  # a tug on the way to the hand: feel again standing still
         drawn_out = p.opening < HELD_OPENING and p.time - self._hand_at_object <= TAKEN_S
-        if drawn_out or p.opening > self._held_width + SPREAD:
+        forced_open = p.opening > self._held_width + SPREAD and not self._knocked(p)
+        if drawn_out or forced_open:
             self._let_go(p)  # the person has it, drawn out of the fingers or through them
             return
         if p.opening < HELD_OPENING:
@@ -395,22 +400,38 @@ class HandoverCycle:
         waited = p.time - self._hand_rest[1] > NUDGE_S
         return waited and _distance(p.hand, p.palm) > OFFER + HAND_STILL
 
+    def _load_change(self, p: Percepts) -> tuple[np.ndarray, np.ndarray] | None:
+        """The change of the load on the wrist (N) since the robot began presenting, and the
+        unit direction from the palm to the person; None without the sensor or a person seen."""
+        known = (p.wrist_force, self._carried_force, self._person, p.palm)
+        if any(value is None for value in known):
+            return None
+        toward = self._person - p.palm
+        distance = float(np.linalg.norm(toward))
+        if distance == 0.0:
+            return None
+        return p.wrist_force - self._carried_force, toward / distance
+
     def _tug(self, p: Percepts) -> float:
         """N by which the load on the wrist pulls harder toward the person than it did as the
         robot began presenting (0 without the sensor or a person seen, or when the change
         points more than TUG_CONE_DEG away from the person)."""
-        known = (p.wrist_force, self._carried_force, self._person, p.palm)
-        if any(value is None for value in known):
+        felt = self._load_change(p)
+        if felt is None:
             return 0.0
-        toward = self._person - p.palm
-        distance = float(np.linalg.norm(toward))
-        if distance == 0.0:
-            return 0.0
+        change, toward = felt
         # The force on the wrist points where the load is pulled: toward the person.
-        change = p.wrist_force - self._carried_force
-        along = float(change @ toward) / distance
-        aligned = along >= math.cos(math.radians(TUG_CONE_DEG)) * float(np.linalg.norm(change))
-        return along if aligned else 0.0
+        return float(change @ toward) if _toward(change, toward) else 0.0
+
+    def _knocked(self, p: Percepts) -> bool:
+        """Whether the wrist feels the object knocked rather than drawn: a change of load over
+        TUG that points more than TUG_CONE_DEG off the person (a hand striking it on its way
+        in forces the fingers open too: the reference run's trial 25, 18 N sideways)."""
+        felt = self._load_change(p)
+        if felt is None:
+            return False
+        change, toward = felt
+        return float(np.linalg.norm(change)) > TUG and not _toward(change, toward)
 
     def _empty_fingers(self, p: Percepts) -> None:
         """Fingers closed on nothing with no hand seen at the object nor tug felt: dropped, or
@@ -533,6 +554,12 @@ class HandoverCycle:
     def _enter(self, phase: Phase, time: float) -> None:
         self.cycle.phase, self._since = phase, time
         self.cycle.phase_times.setdefault(phase.value, time)
+
+
+def _toward(change: np.ndarray, toward: np.ndarray) -> bool:
+    """Whether the force `change` points within TUG_CONE_DEG of the unit direction `toward`."""
+    along = float(change @ toward)
+    return along >= math.cos(math.radians(TUG_CONE_DEG)) * float(np.linalg.norm(change))
 
 
 def _distance(hand: np.ndarray, palm: np.ndarray | None) -> float:

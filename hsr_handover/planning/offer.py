@@ -16,7 +16,7 @@ import numpy as np
 from hsr_handover.perception.object_shapes import ObjectShape
 from hsr_handover.planning.inverse_kinematics import MIN_DISTANCE
 from hsr_handover.planning.perceived_scene import Capsule
-from hsr_handover.planning.planning_scene import HELD_MARGIN, OBJECT_MARGIN
+from hsr_handover.planning.planning_scene import HELD_SPREAD
 
 OFFER_SEARCH = 0.24
 """m round the aim searched for a point where the object fits: enough for an aim on the forearm
@@ -49,8 +49,7 @@ def object_extent(shape: ObjectShape | None) -> float:
     (None: nothing, or unknown), as the planning scene widens the object."""
     if shape is None:
         return FINGERS_EXTENT
-    margin = OBJECT_MARGIN + HELD_MARGIN
-    held = np.hypot(shape.radius + margin, (shape.height + margin) / 2)
+    held = np.hypot(shape.radius + HELD_SPREAD, shape.height / 2 + HELD_SPREAD)
     return float(max(held, FINGERS_EXTENT))
 
 

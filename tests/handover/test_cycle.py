@@ -247,6 +247,17 @@ def test_a_person_out_of_sight_while_presenting_withdrew():
     assert record.failure is Failure.PERSON_WITHDREW
 
 
+def test_a_hand_in_view_at_the_object_is_a_person_in_view_though_the_shoulders_are_hidden():
+    world = _presenting()
+    world.person = None
+    world.hand = world.palm + [0.5, 0.0, 0.0]  # in view, never near
+    world.tick(LOST_S + 1.0)
+    assert world.cycle.cycle.phase is Phase.PRESENT
+    world.hand = None
+    record = world.until(Phase.FAILED)
+    assert record.failure is Failure.PERSON_WITHDREW
+
+
 def test_a_tug_at_the_object_makes_the_robot_let_go_though_the_hand_is_hidden():
     world = _presenting()
     world.pull = 0.005  # the arm's own sag
@@ -375,6 +386,21 @@ def test_fingers_forced_apart_by_the_object_drawn_through_them_make_it_let_go():
     world.tick(1.0)
     assert world.cycle.cycle.phase is Phase.PRESENT
     world.opening = 0.06 + 2 * SPREAD
+    world.tick()
+    assert world.cycle.cycle.phase is Phase.RELEASE and world.cycle.cycle.failure is None
+
+
+def test_fingers_forced_apart_by_a_knock_across_do_not_make_it_let_go():
+    """A hand striking the object on its way in forces the fingers open too, with a load felt
+    across (the reference run's trial 25): the robot holds on; drawn toward the person, or
+    forced open with no load felt, it lets go."""
+    world = _presenting()
+    sideways = np.cross(_toward_person(world, 1.0), [0.0, 0.0, 1.0])
+    world.opening = 0.06 + 2 * SPREAD
+    world.wrist_force = np.array([0.0, 0.0, -WEIGHT]) + 3 * TUG * sideways
+    world.tick(0.5)
+    assert world.cycle.cycle.phase is Phase.PRESENT
+    world.wrist_force = np.array([0.0, 0.0, -WEIGHT]) + _toward_person(world, 3 * TUG)
     world.tick()
     assert world.cycle.cycle.phase is Phase.RELEASE and world.cycle.cycle.failure is None
 

@@ -13,6 +13,7 @@ from hsr_handover.planning.perceived_scene import Capsule, PerceivedScene
 from hsr_handover.planning.planning_scene import (
     HELD,
     HELD_MARGIN,
+    HELD_SPREAD,
     OBJECT_MARGIN,
     PERSON,
     TABLE,
@@ -88,8 +89,9 @@ def test_an_empty_scene_has_nothing_near():
 
 def test_a_held_object_moves_with_the_hand_and_keeps_its_distance():
     """A cup taken where it stands (the hand's pose at the grasp fixes where it sits in the
-    hand), then lifted 10 cm: held, its bottom is 10 cm over the table, nearer than the hand;
-    its copy on the table is gone; after the block, the scene is as it was."""
+    hand), then lifted 10 cm: held, its bottom is 10 cm over the table, widened underneath by
+    HELD_SPREAD, nearer than the hand; its copy on the table is gone; after the block, the
+    scene is as it was."""
     cup = _cup("red", 0.7, 0.0)
     scene = PlanningScene(PerceivedScene(_table(), (cup,)))
     scene.set_positions({"arm_lift_joint": 0.2})
@@ -100,7 +102,8 @@ def test_a_held_object_moves_with_the_hand_and_keeps_its_distance():
     with scene.holding("red", q_grasp):
         assert HELD in scene.geometry
         held = scene.clearance_at(q_lifted)
-        assert held == pytest.approx(0.10 - TABLE_MARGIN, abs=2e-3) and held < hand_only
+        assert held == pytest.approx(0.10 - TABLE_MARGIN - HELD_SPREAD, abs=2e-3)
+        assert held < hand_only
         assert scene.clearance_at(q_grasp) < 0  # put back where it stood: on the table's top
     assert HELD not in scene.geometry
     assert scene.clearance_at(q_lifted, ignore=("red",)) == pytest.approx(hand_only)
@@ -137,4 +140,4 @@ def test_an_object_held_is_placed_by_its_shape_when_grasped_not_as_seen_since():
         with scene.holding("red", q_grasp, cup):
             assert HELD in scene.geometry
             clearances.append(scene.clearance_at(scene.positions()))
-    assert clearances == pytest.approx([0.10 - TABLE_MARGIN] * 3, abs=2e-3)
+    assert clearances == pytest.approx([0.10 - TABLE_MARGIN - HELD_SPREAD] * 3, abs=2e-3)
