@@ -20,7 +20,7 @@ from hsr_handover.planning.planning_scene import HELD_SPREAD
 
 OFFER_SEARCH = 0.24
 """m round the aim searched for a point where the object fits: enough for an aim on the forearm
-capsule's axis (its radius with the margin 9.5 cm, a held cup's extent 10.3 cm, the IK's
+capsule's axis (its radius with the margin 9.5 cm, a held cup's extent 11.7 cm, the IK's
 2 cm)."""
 OFFER_STEP = 0.02  # m between the points tried
 OFFER_TRIES = 3  # points handed on to the inverse kinematics, nearest first
