@@ -183,3 +183,22 @@ def test_a_closed_hand_holds_the_object_where_it_closed_on_it(grip):
     system.GetInputPort("grip").FixValue(context, "")
     _latch(system, context)
     assert system.GetOutputPort("spatial_forces").Eval(context) == []
+
+
+def test_a_hand_that_strikes_the_object_on_its_way_closes_on_it_and_stops_there():
+    """Touching the object it reaches for, short of where it was going, the hand closes and
+    holds where it is; touching another object, it goes on."""
+    receiver = Receiver(BODY, ReceivingParams(reaction_s=0.0))
+    receiver.update(0.0, {"cup": ON_TABLE, "box": ON_TABLE}, SHOULDER)
+    for k in range(20):
+        receiver.update(0.05 + 0.05 * k, {"cup": OFFERED, "box": ON_TABLE}, SHOULDER)
+    assert receiver.state is Receiving.REACHING
+    below = OFFERED - [0.0, 0.0, 0.12]  # coming up under it, far from the point it makes for
+    posture = rest_posture(BODY)
+    objects = {"cup": OFFERED, "box": ON_TABLE}
+    moving = receiver.update(1.1, objects, below - [0, 0, 0.02], (), posture, frozenset({"box"}))
+    assert moving == [] and receiver.grip == ""
+    stop = receiver.update(1.15, objects, below, (), posture, frozenset({"cup"}))
+    assert receiver.state is Receiving.HOLDING and receiver.grip == "cup"
+    assert len(stop) == 1 and stop[0][0] == pytest.approx(1.15)
+    np.testing.assert_array_equal(stop[0][1], posture)

@@ -115,15 +115,9 @@ def _add_person(builder, plant, robot, person, objects, body, timeline, scenario
     """The person's actor (the script, and taking what the robot holds out) and the hand's
     grip on what it takes."""
     params = scenario.person.receiving.params()
-    side = "r_" if params.arm == "right" else "l_"
-    hand = int(plant.GetBodyByName(f"{side}hand", person).index())
+    hand = plant.GetBodyByName(f"{params.arm[0]}_hand", person)
     bodies = {name: _gripped_body(plant, instance) for name, instance in objects.items()}
-    gripper = tuple(
-        (int(plant.GetBodyByName(link, robot).index()), np.array(start), np.array(end), radius)
-        for link, (start, end, radius) in GRIPPER_CAPSULES.items()
-    )
-    indices = {name: gripped.index for name, gripped in bodies.items()}
-    world = WorldBodies(hand, body.hand / 2, indices, person_pose(scenario), gripper)
+    world = _world_bodies(plant, robot, hand, objects, bodies, body.hand / 2, scenario)
     actor = builder.AddNamedSystem(
         "human_actor",
         HumanActor(timeline, actuated_joint_names(plant, person), Receiver(body, params), world),
@@ -132,7 +126,8 @@ def _add_person(builder, plant, robot, person, objects, body, timeline, scenario
         actor.GetOutputPort("person_desired_state"), plant.get_desired_state_input_port(person)
     )
     builder.Connect(plant.get_body_poses_output_port(), actor.GetInputPort("body_poses"))
-    grip = builder.AddNamedSystem("hand_grip", HandGrip(hand, bodies))
+    builder.Connect(plant.get_contact_results_output_port(), actor.GetInputPort("contact_results"))
+    grip = builder.AddNamedSystem("hand_grip", HandGrip(int(hand.index()), bodies))
     builder.Connect(actor.GetOutputPort("grip"), grip.GetInputPort("grip"))
     builder.Connect(plant.get_body_poses_output_port(), grip.GetInputPort("body_poses"))
     builder.Connect(
@@ -142,6 +137,22 @@ def _add_person(builder, plant, robot, person, objects, body, timeline, scenario
     builder.Connect(
         grip.GetOutputPort("spatial_forces"), plant.get_applied_spatial_force_input_port()
     )
+
+
+def _world_bodies(plant, robot, hand, objects, bodies, hand_middle, scenario) -> WorldBodies:
+    """What the receiving person watches: the hand, the objects, the robot's gripper, and the
+    geometries by which the hand touches the objects."""
+    gripper = tuple(
+        (int(plant.GetBodyByName(link, robot).index()), np.array(start), np.array(end), radius)
+        for link, (start, end, radius) in GRIPPER_CAPSULES.items()
+    )
+    touch = dict.fromkeys(plant.GetCollisionGeometriesForBody(hand), "")
+    for name, instance in objects.items():
+        for index in plant.GetBodyIndices(instance):
+            touch |= dict.fromkeys(plant.GetCollisionGeometriesForBody(plant.get_body(index)), name)
+    indices = {name: gripped.index for name, gripped in bodies.items()}
+    return WorldBodies(int(hand.index()), hand_middle, indices, person_pose(scenario), gripper,
+                       touch)  # fmt: skip
 
 
 def _gripped_body(plant: MultibodyPlant, instance: ModelInstanceIndex) -> GrippedBody:

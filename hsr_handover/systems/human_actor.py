@@ -8,7 +8,9 @@ from collections.abc import Sequence
 
 import numpy as np
 from pydrake.common.value import AbstractValue
+from pydrake.geometry import GeometryId
 from pydrake.math import RigidTransform
+from pydrake.multibody.plant import ContactResults
 from pydrake.systems.framework import BasicVector, Context, LeafSystem, State
 
 from hsr_handover.human.behavior import PostureTimeline
@@ -22,13 +24,37 @@ RECEIVING_PERIOD = 0.05  # s between the person's looks at the world while waiti
 class WorldBodies:
     """Where the receiving person looks in the plant's body poses: its hand (the hand's middle
     `hand_middle` m below the hand body's origin, the wrist), the objects by name, the person
-    frame's pose `X_WP`, and the robot's `gripper` (capsules: body, two ends in it, radius)."""
+    frame's pose `X_WP`, and the robot's `gripper` (capsules: body, two ends in it, radius);
+    and in its contact results, the hand's geometries and each object's (`touch`: geometry
+    id to "" for the hand, or the object's name)."""
 
     hand: int
     hand_middle: float
     objects: dict[str, int]
     X_WP: RigidTransform
     gripper: tuple[tuple[int, np.ndarray, np.ndarray, float], ...] = ()
+    touch: dict[GeometryId, str] = dataclasses.field(default_factory=dict)
+
+    def touching(self, results: ContactResults) -> frozenset[str]:
+        """The objects the hand touches in `results`."""
+        pairs = [
+            (info.point_pair().id_A, info.point_pair().id_B)
+            for info in map(
+                results.point_pair_contact_info, range(results.num_point_pair_contacts())
+            )
+        ]
+        pairs += [
+            (info.contact_surface().id_M(), info.contact_surface().id_N())
+            for info in map(
+                results.hydroelastic_contact_info, range(results.num_hydroelastic_contacts())
+            )
+        ]
+        touched = set()
+        for a, b in pairs:
+            owners = {self.touch.get(a), self.touch.get(b)}
+            if "" in owners:
+                touched |= owners - {"", None}
+        return frozenset(touched)
 
 
 @dataclasses.dataclass
@@ -49,7 +75,8 @@ class HumanActor(LeafSystem):
     `joint_order` (the plant's actuator order for the person). With a `receiver` (and the
     `world` bodies it watches), input `body_poses` (the plant's) lets the person react: the
     receiver's postures interrupt the script, and output `grip` names the object the hand
-    holds ("" for none).
+    holds ("" for none). Input `contact_results` (the plant's; optional) tells what the hand
+    touches: the hand closes on what it reaches for when it strikes it.
     """
 
     def __init__(
@@ -76,6 +103,9 @@ class HumanActor(LeafSystem):
             self._poses = self.DeclareAbstractInputPort(
                 "body_poses", AbstractValue.Make([RigidTransform()])
             )
+            self._contacts = self.DeclareAbstractInputPort(
+                "contact_results", AbstractValue.Make(ContactResults())
+            )
             self.DeclarePeriodicUnrestrictedUpdateEvent(RECEIVING_PERIOD, 0.0, self._react)
 
     def _react(self, context: Context, state: State) -> None:
@@ -88,11 +118,18 @@ class HumanActor(LeafSystem):
         gripper = [(X_PW @ (poses[body] @ start), X_PW @ (poses[body] @ end), radius)
                    for body, start, end, radius in world.gripper]  # fmt: skip
         time = context.get_time()
-        # The posture matters only to plan a reach, from waiting.
-        waiting = acting.receiver.state is Receiving.WAITING
-        posture = acting.timeline.evaluate(time)[0] if waiting else None
-        for start, goal in acting.receiver.update(time, objects, hand, gripper, posture):
+        posture = acting.timeline.evaluate(time)[0]
+        touching = (
+            self._touching(context) if acting.receiver.state is Receiving.REACHING else frozenset()
+        )
+        changes = acting.receiver.update(time, objects, hand, gripper, posture, touching)
+        for start, goal in changes:
             acting.timeline = acting.timeline.interrupted(start, goal)
+
+    def _touching(self, context: Context) -> frozenset[str]:
+        if not self._contacts.HasValue(context):
+            return frozenset()
+        return self._world.touching(self._contacts.Eval(context))
 
     def _calc_desired_state(self, context: Context, output: BasicVector) -> None:
         timeline = context.get_abstract_state(self._acting).get_value().timeline
