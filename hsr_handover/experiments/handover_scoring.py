@@ -18,6 +18,7 @@ from pydrake.systems.framework import Context, EventStatus
 
 from hsr_handover.experiments.true_clearance import HAND, PERSON, ROBOT, TABLE, geometry_owners
 from hsr_handover.simulation import Simulation
+from hsr_handover.systems.contact_pairs import contact_pairs
 
 LIFTED = 0.05  # m above where it stood: the object has been picked up
 DROPPED = 0.01
@@ -140,14 +141,7 @@ class HandoverScorer:
     def _contacts(self, plant_context) -> list[tuple[str, str]]:
         """The owners of each pair of geometries in contact now."""
         results = self._plant.get_contact_results_output_port().Eval(plant_context)
-        pairs = []
-        for i in range(results.num_hydroelastic_contacts()):
-            surface = results.hydroelastic_contact_info(i).contact_surface()
-            pairs.append((surface.id_M(), surface.id_N()))
-        for i in range(results.num_point_pair_contacts()):
-            info = results.point_pair_contact_info(i).point_pair()
-            pairs.append((info.id_A, info.id_B))
-        return [(self._owner.get(a, ""), self._owner.get(b, "")) for a, b in pairs]
+        return [(self._owner.get(a, ""), self._owner.get(b, "")) for a, b in contact_pairs(results)]
 
     def _clearance(self, plant_context) -> None:
         query = self._plant.get_geometry_query_input_port().Eval(plant_context)

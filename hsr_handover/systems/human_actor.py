@@ -16,6 +16,7 @@ from pydrake.systems.framework import BasicVector, Context, LeafSystem, State
 from hsr_handover.human.behavior import PostureTimeline
 from hsr_handover.human.body import PERSON_JOINTS
 from hsr_handover.human.receiving import Receiver, Receiving
+from hsr_handover.systems.contact_pairs import contact_pairs
 
 RECEIVING_PERIOD = 0.05  # s between the person's looks at the world while waiting to take
 
@@ -37,20 +38,8 @@ class WorldBodies:
 
     def touching(self, results: ContactResults) -> frozenset[str]:
         """The objects the hand touches in `results`."""
-        pairs = [
-            (info.point_pair().id_A, info.point_pair().id_B)
-            for info in map(
-                results.point_pair_contact_info, range(results.num_point_pair_contacts())
-            )
-        ]
-        pairs += [
-            (info.contact_surface().id_M(), info.contact_surface().id_N())
-            for info in map(
-                results.hydroelastic_contact_info, range(results.num_hydroelastic_contacts())
-            )
-        ]
         touched = set()
-        for a, b in pairs:
+        for a, b in contact_pairs(results):
             owners = {self.touch.get(a), self.touch.get(b)}
             if "" in owners:
                 touched |= owners - {"", None}
