@@ -169,7 +169,7 @@ class PerceivedPlanner:
         palm = self.palm_pose(q).rotation().matrix()  # the hand keeps the turn it has
         goal = PalmGoal(np.asarray(aim, dtype=float), palm[:, 2], palm[:, 1],
                         2 * q[scene.index(GRIPPER_JOINT)])  # fmt: skip
-        with holding(scene, held):
+        with holding(scene, held, q):
             for point in offer_points(aim, scene.scene.person, extent):
                 motion, reason = self._move(scene, q, v, dataclasses.replace(goal, point=point),
                                             ignore)  # fmt: skip

@@ -36,9 +36,10 @@ from hsr_handover.planning.trajectory import (
     COLLISION_SAMPLES,
     CONTROL_POINTS,
     STOWED,
+    StartContact,
     optimize_path,
     route_guess,
-    sample_bounds,
+    start_contact,
     straight_guess,
 )
 
@@ -89,11 +90,12 @@ class Held:
     shape: ObjectShape | None = None
 
 
-def holding(scene: PlanningScene, held: Held | None):
-    """`scene.holding` for the object `held` as grasped (nothing for None)."""
+def holding(scene: PlanningScene, held: Held | None, q_now: np.ndarray):
+    """`scene.holding` for the object `held` as grasped, with the HSR now at `q_now` (nothing
+    for None)."""
     if held is None:
         return contextlib.nullcontext()
-    return scene.holding(held.label, held.q_grasp, held.shape)
+    return scene.holding(held.label, held.q_grasp, held.shape, q_now)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -166,7 +168,7 @@ def plan_handover(
     it is. Never raises: an unreachable person gives `reason`."""
     if held is None:
         return _plan_handover(scene, arm_map, person, q_now, limits, ())
-    with holding(scene, held):
+    with holding(scene, held, q_now):
         return _plan_handover(scene, arm_map, person, q_now, limits, (held.label,))
 
 
@@ -193,7 +195,7 @@ def plan_retreat(
                 (RETREAT, ignore, q_back, q_stowed),
             )
         return _plan_legs(scene, RETREAT, legs, limits, seconds, 0)
-    with holding(scene, held):
+    with holding(scene, held, q_now):
         q_stowed = _stowed(scene, q_now, (held.label,), STOWED | STOWED_HOLDING)
         leg = (RETREAT, (held.label,), q_now, q_stowed)
         return _plan_legs(scene, RETREAT, (leg,), limits, seconds, 0)
@@ -284,21 +286,20 @@ def _path(scene, q_from, q_to, ignore, straight: bool):
 
 
 def _verified_path(scene, q_from, q_to, guess, ignore):
-    """An optimised path from `guess` that stays within DIP_ALLOWANCE of its samples' bounds
-    between them too, its samples doubled while it does not (up to MAX_SAMPLES); (None, why)
-    if none."""
-    samples, start_clearance = COLLISION_SAMPLES, scene.clearance_at(q_from, ignore)
+    """An optimised path from `guess` that comes no more than DIP_ALLOWANCE inside its
+    samples' bounds between them too, its samples doubled while it does (up to MAX_SAMPLES);
+    (None, why) if none."""
+    samples, contact = COLLISION_SAMPLES, start_contact(scene, q_from, ignore)
     while True:
         result = optimize_path(scene, q_from, q_to, guess, ignore, samples)
         if not result.ok:
             return None, result.reason
-        checks = VERIFY_PER_SAMPLE * samples
-        clearances = path_clearances(scene, result.path, ignore, checks)
-        dips = sample_bounds(start_clearance, checks) - clearances
+        dips = path_dips(scene, result.path, ignore, contact, VERIFY_PER_SAMPLE * samples)
         if dips.max() <= DIP_ALLOWANCE:
             return result.path, result.reason
         if samples * 2 > MAX_SAMPLES:
-            return None, f"dips to {100 * clearances.min():.1f} cm between {samples} samples"
+            worst = 100 * dips.max()
+            return None, f"dips {worst:.1f} cm inside its bounds between {samples} samples"
         samples *= 2
         guess = np.hstack(result.path.control_points())
 
@@ -322,6 +323,18 @@ def path_clearances(
     `value(t)` and `start_time()`, `end_time()`."""
     times = np.linspace(path.start_time(), path.end_time(), samples)
     return np.array([scene.clearance_at(path.value(t).ravel(), ignore) for t in times])
+
+
+def path_dips(
+    scene: PlanningScene, path, ignore: tuple[str, ...], contact: StartContact, samples: int
+) -> np.ndarray:
+    """How far (m) a path (`value(t)`, `start_time()`, `end_time()`) from a start touching
+    `contact` comes inside its bounds (StartContact.bound, by obstacle) at `samples` evenly
+    spaced times; negative where it keeps clear of them all."""
+    times = np.linspace(path.start_time(), path.end_time(), samples)
+    spots = np.linspace(0.0, 1.0, samples)
+    return np.array([contact.dip(scene.clearances_at(path.value(t).ravel(), ignore), spot)
+                     for t, spot in zip(times, spots, strict=True)])  # fmt: skip
 
 
 def timed_clearance(scene: PlanningScene, motion: Motion, step: float = CHECK_STEP) -> float:

@@ -30,7 +30,8 @@ from pydrake.geometry import Capsule as CapsuleShape
 from pydrake.math import RigidTransform, RotationMatrix
 from pydrake.multibody.parsing import Parser
 from pydrake.multibody.plant import AddMultibodyPlantSceneGraph, CoulombFriction, MultibodyPlant
-from pydrake.systems.framework import DiagramBuilder
+from pydrake.multibody.tree import Body
+from pydrake.systems.framework import Context, DiagramBuilder
 
 from hsr_handover.hsr import (
     GRIPPER_JOINT,
@@ -111,10 +112,9 @@ class PlanningScene:
         for capsule in scene.person:
             self._add(PERSON, *_capsule_solid(capsule))
         plant.Finalize()
-        self.robot_geometry = GeometrySet(
-            [gid for body in plant.GetBodyIndices(self.robot)
-             for gid in plant.GetCollisionGeometriesForBody(plant.get_body(body))]
-        )  # fmt: skip
+        bodies = [plant.get_body(body) for body in plant.GetBodyIndices(self.robot)]
+        self._robot_ids = [g for b in bodies for g in plant.GetCollisionGeometriesForBody(b)]
+        self.robot_geometry = GeometrySet(self._robot_ids)
         scene_graph.collision_filter_manager().Apply(
             CollisionFilterDeclaration().ExcludeWithin(self.robot_geometry)
         )
@@ -157,63 +157,112 @@ class PlanningScene:
             rows.append(row)
         return np.array(rows), np.zeros(len(rows))
 
+    def _moving(self) -> GeometrySet:
+        """The HSR's geometry and the object it holds, if any."""
+        return GeometrySet([*self._robot_ids, *self.geometry.get(HELD, [])])
+
+    def _excluding(self, names: Sequence[str]) -> CollisionFilterDeclaration:
+        ids = GeometrySet([gid for name in names for gid in self.geometry.get(name, [])])
+        return CollisionFilterDeclaration().ExcludeBetween(self._moving(), ids)
+
     @contextlib.contextmanager
     def ignoring(self, names: Sequence[str]) -> Iterator[None]:
-        """Within the block, the HSR does not collide with the obstacles named (a target being
-        grasped, the object held): distance queries and constraints leave them out."""
-        ids = GeometrySet([gid for name in names for gid in self.geometry.get(name, [])])
+        """Within the block, the HSR and the object it holds do not collide with the obstacles
+        named (a target being grasped, the object held): distance queries and constraints
+        leave them out."""
         manager = self.scene_graph.collision_filter_manager(self._scene_graph_context)
-        handle = manager.ApplyTransient(
-            CollisionFilterDeclaration().ExcludeBetween(self.robot_geometry, ids)
-        )
+        handle = manager.ApplyTransient(self._excluding(names))
         try:
             yield
         finally:
             manager.RemoveDeclaration(handle)
 
+    def ignoring_context(self, names: Sequence[str]) -> tuple[Context, Context]:
+        """A copy of the scene's context (the HSR as it is, any object held, the obstacles
+        ignored now) in which the obstacles named are left out too, for good: for constraints
+        that must see other obstacles than the scene's own context does. Returns the copy and
+        its plant context; keep the copy alive while the plant context is used."""
+        root = self.context.Clone()
+        scene_graph_context = self.scene_graph.GetMyMutableContextFromRoot(root)
+        manager = self.scene_graph.collision_filter_manager(scene_graph_context)
+        manager.ApplyTransient(self._excluding(names))  # the copy may hold transient ones
+        return root, self.plant.GetMyMutableContextFromRoot(root)
+
     @contextlib.contextmanager
     def holding(
-        self, label: str, q_grasp: np.ndarray, shape: ObjectShape | None = None
+        self,
+        label: str,
+        q_grasp: np.ndarray,
+        shape: ObjectShape | None = None,
+        q_now: np.ndarray | None = None,
     ) -> Iterator[None]:
         """Within the block, the perceived object `label` moves with the hand, as it sat in the
         hand closed on it at `q_grasp` (plant positions): its solid hangs on the palm's body,
         an obstacle to all but the robot, and its copy in the scene is left out. `shape` is
         the object as perceived when grasped (default: as perceived now, which is right only
         while it still stands where the hand closed on it), widened by HELD_SPREAD all round,
-        underneath too. An object not in the scene and
-        without a `shape` changes nothing."""
+        underneath too. With the HSR's positions now, `q_now`, the detections that are the
+        held object seen again where it is now (`seen_in_hand`) are left out too. An object
+        not in the scene and without a `shape` changes nothing."""
         shape = self.scene.object_named(label) if shape is None else shape
         if shape is None:
             yield
             return
+        X_WH = self.hand_pose(q_grasp)
+        seen = () if q_now is None else self.seen_in_hand(shape, X_WH, q_now)
         solid, X_WO = _object_solid(shape, HELD_SPREAD, below=HELD_SPREAD)
-        hand = self.plant.GetFrameByName(PALM_FRAME, self.robot).body()
-        positions = self.positions()
-        self.plant.SetPositions(self.plant_context, q_grasp)
-        X_HO = hand.EvalPoseInWorld(self.plant_context).inverse() @ X_WO
-        self.plant.SetPositions(self.plant_context, positions)
-        instance = GeometryInstance(X_HO, solid, f"held_{label}")
+        instance = GeometryInstance(X_WH.inverse() @ X_WO, solid, f"held_{label}")
         instance.set_proximity_properties(ProximityProperties())
         source = self.plant.get_source_id()
+        hand = self._hand()
         held = self.scene_graph.RegisterGeometry(
             self._scene_graph_context, source, self.plant.GetBodyFrameIdOrThrow(hand.index()),
             instance,
         )  # fmt: skip
-        in_hand, on_table = GeometrySet([held]), GeometrySet(self.geometry.get(label, []))
         manager = self.scene_graph.collision_filter_manager(self._scene_graph_context)
         handle = manager.ApplyTransient(
-            CollisionFilterDeclaration()
-            .ExcludeBetween(self.robot_geometry, in_hand)
-            .ExcludeBetween(in_hand, on_table)
+            CollisionFilterDeclaration().ExcludeBetween(self.robot_geometry, GeometrySet([held]))
         )
         self.geometry[HELD] = [held]
         try:
-            with self.ignoring((label,)):
+            with self.ignoring((label, *seen)):
                 yield
         finally:
             del self.geometry[HELD]
             manager.RemoveDeclaration(handle)
             self.scene_graph.RemoveGeometry(self._scene_graph_context, source, held)
+
+    def _hand(self) -> Body:
+        """The body that PALM_FRAME is on: a held object hangs on it."""
+        return self.plant.GetFrameByName(PALM_FRAME, self.robot).body()
+
+    def hand_pose(self, q: np.ndarray) -> RigidTransform:
+        """The hand's body (`_hand`) in the world with the HSR at `q`; the scene's own positions
+        are left as they were."""
+        positions = self.positions()
+        self.plant.SetPositions(self.plant_context, q)
+        X_WH = self._hand().EvalPoseInWorld(self.plant_context)
+        self.plant.SetPositions(self.plant_context, positions)
+        return X_WH
+
+    def seen_in_hand(
+        self, shape: ObjectShape, X_WH_grasp: RigidTransform, q_now: np.ndarray
+    ) -> tuple[str, ...]:
+        """The labels of the perceived objects that are `shape`, held since the hand closed on
+        it with its frame at `X_WH_grasp`, seen again where the hand has it at `q_now`: each
+        one whose footprint's centre lies within the held object's and whose top rises above
+        its bottom. (Lifted, the camera sees it as a column from the table up to its top, and
+        as a new detection when the old one is remembered where it stood.)"""
+        X_WH_now = self.hand_pose(q_now)
+        centre = X_WH_now @ (X_WH_grasp.inverse() @ shape.centroid)
+        bottom = centre[2] - shape.height / 2
+        return tuple(
+            seen.label
+            for seen in self.scene.objects
+            if seen.label != shape.label
+            and np.hypot(*(seen.center - centre[:2])) < shape.radius
+            and seen.bottom + seen.height > bottom
+        )
 
     def query(self) -> QueryObject:
         return self.plant.get_geometry_query_input_port().Eval(self.plant_context)
@@ -224,14 +273,27 @@ class PlanningScene:
         return self.clearance(ignore)[0]
 
     def clearance(self, ignore: tuple[str, ...] = ()) -> tuple[float, str]:
-        """The least signed distance (m) between the HSR and any obstacle but those named in
-        `ignore`, and that obstacle's name; (inf, "") when nothing is within NEAR."""
-        owner = {gid: name for name, ids in self.geometry.items() for gid in ids}
-        best, nearest = math.inf, ""
+        """The least signed distance (m) between the HSR (and the object it holds) and any
+        obstacle but those named in `ignore`, and that obstacle's name; (inf, "") when nothing
+        is within NEAR."""
+        distances = self.clearances(ignore)
+        nearest = min(distances, key=distances.get, default="")
+        return distances.get(nearest, math.inf), nearest
+
+    def clearances_at(self, q: np.ndarray, ignore: tuple[str, ...] = ()) -> dict[str, float]:
+        """`clearances` with the HSR put at `q` (plant positions)."""
+        self.plant.SetPositions(self.plant_context, q)
+        return self.clearances(ignore)
+
+    def clearances(self, ignore: tuple[str, ...] = ()) -> dict[str, float]:
+        """The least signed distance (m) between the HSR (and the object it holds) and each
+        obstacle within NEAR but those named in `ignore`, by the obstacle's name."""
+        owner = {gid: name for name, ids in self.geometry.items() if name != HELD for gid in ids}
+        distances: dict[str, float] = {}
         with self.ignoring(ignore):
             pairs = self.query().ComputeSignedDistancePairwiseClosestPoints(NEAR)
         for pair in pairs:
             obstacle = owner.get(pair.id_A, owner.get(pair.id_B))
-            if obstacle is not None and pair.distance < best:
-                best, nearest = float(pair.distance), obstacle
-        return best, nearest
+            if obstacle is not None:
+                distances[obstacle] = min(distances.get(obstacle, math.inf), float(pair.distance))
+        return distances

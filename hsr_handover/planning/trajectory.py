@@ -8,15 +8,20 @@ The bound is larger than the planner's true margin: between samples a short path
 to about 11 mm (DESIGN §6); a long one (a carry round the table, the object held far out from
 the joints) by much more, so the planner checks each path between its samples (planner.py).
 
-A start that the perceived scene already puts nearer than the bound (perception errs toward
-bulk: a table's unseen end runs on, a person's unseen body is a column to the floor) would make
-every path infeasible; over the first ESCAPE_SHARE of such a path the samples need only stay as
-far as the start was, less ESCAPE_SLACK.
+A start that the perceived scene already puts nearer than the bound to some obstacles
+(perception errs toward bulk: a table's unseen end runs on, a person's unseen body is a column
+to the floor; a lift starts with the object on the table) would make every path infeasible;
+over the first ESCAPE_SHARE of such a path the samples need only stay as far from *those*
+obstacles as the start was, less ESCAPE_SLACK (`StartContact`). Every other obstacle keeps the
+bound all the way: a start in contact with one never licenses touching another (session 13's
+carry started 7 cm inside the held box's second detection and, under one allowance for every
+obstacle, passed the box 7 cm through a neighbouring cup).
 """
 
 from __future__ import annotations
 
 import dataclasses
+import math
 import time
 
 import numpy as np
@@ -25,7 +30,7 @@ from pydrake.planning import KinematicTrajectoryOptimization
 from pydrake.trajectories import BsplineTrajectory
 
 from hsr_handover.hsr import BASE_JOINTS, HEAD_JOINTS
-from hsr_handover.planning.planning_scene import PlanningScene
+from hsr_handover.planning.planning_scene import HELD, PlanningScene
 from hsr_handover.planning.solving import solve, solved
 
 CONTROL_POINTS = 10
@@ -51,6 +56,41 @@ class PathResult:
     reason: str
     path: BsplineTrajectory | None
     seconds: float
+
+
+@dataclasses.dataclass(frozen=True)
+class StartContact:
+    """The obstacles a path's start lies nearer than COLLISION_BOUND to (`names`, none for a
+    clear start) and its least clearance (m) to them."""
+
+    names: tuple[str, ...] = ()
+    clearance: float = COLLISION_BOUND
+
+    def bound(self, name: str, spot: float) -> float:
+        """The least distance (m) to keep from the obstacle `name` at `spot` (0 to 1) along
+        the path: COLLISION_BOUND, or for an obstacle the start touches, over the first
+        ESCAPE_SHARE, the start's clearance less ESCAPE_SLACK."""
+        if name in self.names and spot <= ESCAPE_SHARE:
+            return self.clearance - ESCAPE_SLACK
+        return COLLISION_BOUND
+
+    def dip(self, clearances: dict[str, float], spot: float) -> float:
+        """How far (m) the clearances by obstacle at `spot` come inside their bounds (negative
+        when all keep clear of them)."""
+        dips = (self.bound(name, spot) - d for name, d in clearances.items())
+        return max(dips, default=-math.inf)
+
+
+def start_contact(
+    scene: PlanningScene, q_start: np.ndarray, ignore: tuple[str, ...] = ()
+) -> StartContact:
+    """The obstacles (but those in `ignore`) that the HSR at `q_start` is within
+    COLLISION_BOUND of."""
+    near = {name: d for name, d in scene.clearances_at(q_start, ignore).items()
+            if d < COLLISION_BOUND}  # fmt: skip
+    if not near:
+        return StartContact()
+    return StartContact(tuple(sorted(near)), min(near.values()))
 
 
 def straight_guess(q_start: np.ndarray, q_goal: np.ndarray, count: int = CONTROL_POINTS):
@@ -98,13 +138,14 @@ def optimize_path(
     `reason` says why."""
     start = time.perf_counter()
     guess = straight_guess(q_start, q_goal) if guess is None else guess
-    bounds = sample_bounds(scene.clearance_at(q_start, ignore), samples)
+    contact = start_contact(scene, q_start, ignore)
     with scene.ignoring(ignore):
-        trajopt, constraints = _build(scene, q_start, q_goal, guess.shape[1], bounds)
+        trajopt = _build(scene, q_start, q_goal, guess.shape[1])
+        constraints = _keep_clear(trajopt, scene, contact, samples)
         trajopt.SetInitialGuess(BsplineTrajectory(trajopt.basis(), guess * 1.0))
         result = solve(trajopt.prog())
         usable = solved(trajopt.prog(), result)
-        del constraints  # the solve is done; the constraints held the plant context
+        del constraints  # the solve is done; the constraints held the plant contexts
     seconds = time.perf_counter() - start
     if not usable:
         reason = f"no path ({result.get_solver_id().name()} {result.get_solution_result().name})"
@@ -112,23 +153,11 @@ def optimize_path(
     return PathResult(True, "ok", trajopt.ReconstructTrajectory(result), seconds)
 
 
-def sample_bounds(start_clearance: float, samples: int = COLLISION_SAMPLES) -> np.ndarray:
-    """The least distance (m) to keep at each of `samples` points evenly spaced over the path:
-    COLLISION_BOUND, or for a start already nearer, the start's own clearance less
-    ESCAPE_SLACK over the first ESCAPE_SHARE."""
-    spots = np.linspace(0.0, 1.0, samples)
-    bounds = np.full(samples, COLLISION_BOUND)
-    if start_clearance < COLLISION_BOUND:
-        bounds[spots <= ESCAPE_SHARE] = start_clearance - ESCAPE_SLACK
-    return bounds
-
-
 def _build(
     scene: PlanningScene,
     q_start: np.ndarray,
     q_goal: np.ndarray,
     control_points: int,
-    bounds: np.ndarray,
 ):
     plant = scene.plant
     nq = plant.num_positions()
@@ -149,12 +178,29 @@ def _build(
     for j in range(points.shape[1]):
         prog.AddLinearEqualityConstraint(A, b, points[:, j])
         prog.AddBoundingBoxConstraint(q_start[held], q_start[held], points[held, j])
-    constraints = {
-        bound: MinimumDistanceLowerBoundConstraint(
-            plant, bound, scene.plant_context, None, INFLUENCE
-        )
-        for bound in set(bounds.tolist())
-    }
-    for s, bound in zip(np.linspace(0, 1, len(bounds)), bounds, strict=True):
-        trajopt.AddPathPositionConstraint(constraints[float(bound)], s)
-    return trajopt, constraints
+    return trajopt
+
+
+def _keep_clear(trajopt, scene: PlanningScene, contact: StartContact, samples: int) -> list:
+    """Keep the path at `samples` evenly spaced points clear of the scene by COLLISION_BOUND,
+    and of the obstacles its start touches (`contact`) by their StartContact bounds (each
+    constraint in a context that sees only its obstacles); the objects to keep alive through
+    the solve."""
+    plant, spots = scene.plant, np.linspace(0.0, 1.0, samples)
+
+    def lower_bound(bound: float, plant_context):
+        return MinimumDistanceLowerBoundConstraint(plant, bound, plant_context, None, INFLUENCE)
+
+    everything = lower_bound(COLLISION_BOUND, scene.plant_context)
+    alive, escape = [everything], (everything,)
+    if contact.names:
+        others = [name for name in scene.geometry if name not in contact.names and name != HELD]
+        touched_root, touched = scene.ignoring_context(others)
+        rest_root, rest = scene.ignoring_context(contact.names)
+        escape = (lower_bound(contact.bound(contact.names[0], 0.0), touched),
+                  lower_bound(COLLISION_BOUND, rest))  # fmt: skip
+        alive += [touched_root, rest_root, touched, rest, *escape]
+    for spot in spots:
+        for constraint in escape if spot <= ESCAPE_SHARE else (everything,):
+            trajopt.AddPathPositionConstraint(constraint, spot)
+    return alive

@@ -37,7 +37,7 @@ from hsr_handover.planning.trajectory import (
     ESCAPE_SLACK,
     STOWED,
     optimize_path,
-    sample_bounds,
+
 )
 
 TABLE_TOP = 0.72
@@ -153,14 +153,6 @@ def test_a_path_that_dips_between_its_samples_is_optimised_again_at_more(monkeyp
     assert path is not None, reason
     floor = COLLISION_BOUND - planner.DIP_ALLOWANCE
     assert path_clearances(scene, path, (), dense).min() >= floor - 2e-3
-
-
-def test_only_the_first_stretch_of_a_path_from_a_near_start_may_stay_near():
-    bounds = sample_bounds(0.004)
-    spots = np.linspace(0.0, 1.0, len(bounds))
-    assert np.all(bounds[spots <= ESCAPE_SHARE] == pytest.approx(0.004 - ESCAPE_SLACK))
-    assert np.all(bounds[spots > ESCAPE_SHARE] == COLLISION_BOUND)
-    assert np.all(sample_bounds(0.05) == COLLISION_BOUND)
 
 
 def test_a_start_the_perceived_table_crowds_still_gets_a_path(scene, arm_map):

@@ -14,6 +14,7 @@ from hsr_handover.planning.planning_scene import (
     HELD,
     HELD_MARGIN,
     HELD_SPREAD,
+    NEAR,
     OBJECT_MARGIN,
     PERSON,
     TABLE,
@@ -141,3 +142,61 @@ def test_an_object_held_is_placed_by_its_shape_when_grasped_not_as_seen_since():
             assert HELD in scene.geometry
             clearances.append(scene.clearance_at(scene.positions()))
     assert clearances == pytest.approx([0.10 - TABLE_MARGIN - HELD_SPREAD] * 3, abs=2e-3)
+
+
+def test_the_held_object_seen_again_where_the_hand_has_it_is_left_out():
+    """Lifted 10 cm, the cup is seen again as `red#2`, a column from the table up to its top,
+    and the hand now starts inside that column: it is the held cup, so it is no obstacle; the
+    neighbour 20 cm away, and the same column seen elsewhere, still are."""
+    cup, neighbour = _cup("red", 0.7, 0.0), _cup("blue", 0.7, 0.2)
+    column = dataclasses.replace(cup, label="red#2", height=cup.height + 0.1)
+    elsewhere = dataclasses.replace(column, label="red#3", center=np.array([0.7, -0.2]))
+    scene = PlanningScene(PerceivedScene(_table(), (cup, neighbour, column, elsewhere)))
+    scene.set_positions({"arm_lift_joint": 0.2})
+    q_grasp = scene.positions()
+    scene.set_positions({"arm_lift_joint": 0.3})
+    q_lifted = scene.positions()
+    assert scene.seen_in_hand(cup, scene.hand_pose(q_grasp), q_lifted) == ("red#2",)
+    assert scene.seen_in_hand(cup, scene.hand_pose(q_grasp), q_grasp) == ("red#2",)
+    with scene.holding("red", q_grasp, cup, q_lifted):
+        distances = scene.clearances_at(q_lifted)
+    assert set(distances) == {TABLE, "blue", "red#3"}
+    with scene.holding("red", q_grasp, cup):  # without the hand's positions now: seen twice
+        assert scene.clearances_at(q_lifted)["red#2"] < 0
+
+
+def test_clearances_name_each_obstacle_a_held_object_comes_near():
+    """By obstacle, the held cup's own distances count as the robot's: the neighbour's is the
+    held cup's gap to it, never filed under the held object."""
+    held, neighbour = _cup("red", 0.7, 0.0), _cup("blue", 0.7, 0.2)
+    scene = PlanningScene(PerceivedScene(_table(), (held, neighbour)))
+    scene.set_positions({"arm_lift_joint": 0.2})
+    q_grasp = scene.positions()
+    gap = 0.2 - 2 * (0.035 + OBJECT_MARGIN) - HELD_MARGIN
+    with scene.holding("red", q_grasp):
+        distances = scene.clearances()
+        assert HELD not in distances and distances["blue"] == pytest.approx(gap, abs=1e-3)
+        assert scene.clearance() == (distances[TABLE], TABLE)  # its bottom is in the table
+        with scene.ignoring(("blue",)):  # ignoring keeps the held cup off it too
+            assert "blue" not in scene.clearances()
+
+
+def test_a_copy_of_the_context_leaves_out_more_than_the_scene_does():
+    """For the optimiser's constraints on the obstacles a path starts in contact with."""
+    held, neighbour = _cup("red", 0.7, 0.0), _cup("blue", 0.7, 0.2)
+    scene = PlanningScene(PerceivedScene(_table(), (held, neighbour)))
+    scene.set_positions({"arm_lift_joint": 0.2})
+    q_grasp = scene.positions()
+    with scene.holding("red", q_grasp):
+        root, plant_context = scene.ignoring_context([TABLE])
+        query = scene.plant.get_geometry_query_input_port().Eval(plant_context)
+        near = query.ComputeSignedDistancePairwiseClosestPoints(NEAR)
+        owners = {scene.query().inspector().GetName(gid) for p in near for gid in (p.id_A, p.id_B)}
+        assert not any(name.startswith(TABLE) for name in owners)
+        assert any(name.startswith("blue") for name in owners)  # the copy sees the held cup
+        assert TABLE in scene.clearances()  # and the scene itself is as it was
+        with scene.ignoring(("blue",)):  # what the scene ignores now, the copy ignores too
+            _, copy = scene.ignoring_context([TABLE])
+            query = scene.plant.get_geometry_query_input_port().Eval(copy)
+            assert not query.ComputeSignedDistancePairwiseClosestPoints(NEAR)
+    del root
