@@ -33,11 +33,9 @@ from hsr_handover.planning.planning_scene import PlanningScene
 from hsr_handover.planning.timing import joint_limits
 from hsr_handover.planning.trajectory import (
     COLLISION_BOUND,
-    ESCAPE_SHARE,
     ESCAPE_SLACK,
     STOWED,
     optimize_path,
-
 )
 
 TABLE_TOP = 0.72
