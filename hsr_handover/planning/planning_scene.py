@@ -59,8 +59,8 @@ HELD_MARGIN = 0.02
 it: the grip can turn, shift and tilt it in the fingers, and the shape perceived at the grasp,
 from the camera's side, is the smaller (session 13 measured a box sag 1.4 cm and tilt 13
 degrees in the fingers as a carry set off). The cups knocked by carried boxes in sessions 12
-and 13 came mostly from elsewhere: a carry's plan may start inside the held object's second
-detection, and that start allowance let it pass through a neighbour (see the README)."""
+and 13 came mostly from elsewhere, fixed in session 14: the held object's second detection
+(`seen_in_hand`) and a start allowance for every obstacle (`trajectory.StartContact`)."""
 HELD_SPREAD = OBJECT_MARGIN + HELD_MARGIN  # m the held solid reaches past the object's sides
 
 
