@@ -118,9 +118,10 @@ RETRY_EVERY_S = 1.0  # s between those tries
 FOLLOW_EVERY_S = 1.0  # s between tries to follow the hand (a hand out of reach fails each)
 WAIT_S = 12.0  # s the robot presents the object before it gives up (HandoverSim's 13 s limit)
 LOST_S = 2.0
-"""s while presenting without seeing the person (both shoulders) or their receiving hand: the
-person withdrew. The robot's own arm often hides a shoulder while the hand takes the object
-(the reference run's trial 46 gave up on a person pulling at the object, wrist in view)."""
+"""s while presenting without seeing the person (the neck or a shoulder) or their receiving
+hand: the person withdrew. The robot's own arm often hides a shoulder while the hand takes the
+object (the reference run's trial 46 gave up on a person pulling at the object, wrist in view;
+presenting to a standing person at their chest, it hides one shoulder throughout)."""
 
 
 class Motion(Protocol):
@@ -138,11 +139,11 @@ class Percepts:
     gripper's measured `opening` (m), the `target` recognised (None until one is), the target
     object's centre as the camera sees it now (`object_seen`, None when not in view), the
     receiving hand from the skeleton (`hand`, None when not seen), the palm's point by forward
-    kinematics of `q` (`palm`), a point on the person seen now (`person`, the receiving
-    shoulder; None when the person is not in view), how far the joint sensors put the palm
-    from where it is commanded (`pull`, m: a person tugging at the object held) and the force
-    the hand and its load exert on the wrist's sensor (`wrist_force`, N, world; None without
-    the sensor)."""
+    kinematics of `q` (`palm`), a point on the person seen now (`person`: the receiving
+    shoulder, or else the neck or a shoulder; None when the person is not in view), how far
+    the joint sensors put the palm from where it is commanded (`pull`, m: a person tugging at
+    the object held) and the force the hand and its load exert on the wrist's sensor
+    (`wrist_force`, N, world; None without the sensor)."""
 
     time: float
     q: np.ndarray
@@ -271,9 +272,12 @@ class HandoverCycle:
 
     def gaze(self) -> np.ndarray | None:
         """Where to look (m, world): the object until it is lifted, then the person; None
-        while watching (the head is the watcher's)."""
+        while watching (the head is the watcher's), unless a grasp of the object asked for
+        found no way: then the object, so the table before it comes into view (watching a
+        standing person, the head is raised and the table's near edge, unseen, runs on toward
+        the robot and keeps its base from the object)."""
         if self.cycle.phase is Phase.WATCH:
-            return None
+            return self._object_start if self._blocked is not None else None
         on_object = (Phase.APPROACH, Phase.GRASP, Phase.LIFT)
         if self.cycle.phase in on_object and self._turned is None:
             return self._object_start

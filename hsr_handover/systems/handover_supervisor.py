@@ -107,7 +107,7 @@ class HandoverSupervisor(LeafSystem):
         for detection in self._detections.Eval(context).detections:
             if detection.label == wanted and np.all(np.isfinite(detection.center)):
                 seen = np.asarray(detection.center, dtype=float)
-        person = None if arm is None else arm.shoulder
+        person = _person_point(skeleton, arm)
         palm_pose = self._planner.palm_pose(q)
         palm = pads_centre(palm_pose)
         commanded, _, _ = cycle.command(context.get_time())
@@ -151,11 +151,27 @@ class HandoverSupervisor(LeafSystem):
 
 
 _WRIST = keypoint_index(f"{RECEIVING_SIDE}_wrist")
+_UPPER_BODY = tuple(keypoint_index(name) for name in ("neck", "r_shoulder", "l_shoulder"))
+
+
+def _keypoint(skeleton, index: int) -> np.ndarray | None:
+    """The keypoint `index` (m, world), None when not seen."""
+    if skeleton is None or skeleton.confidence[index] <= 0:
+        return None
+    point = skeleton.points[index]
+    return point if np.all(np.isfinite(point)) else None
 
 
 def _wrist(skeleton) -> np.ndarray | None:
     """The receiving wrist (m, world), None when not seen."""
-    if skeleton is None or skeleton.confidence[_WRIST] <= 0:
-        return None
-    point = skeleton.points[_WRIST]
-    return point if np.all(np.isfinite(point)) else None
+    return _keypoint(skeleton, _WRIST)
+
+
+def _person_point(skeleton, arm: HumanArm | None) -> np.ndarray | None:
+    """A point on the person seen now: the receiving arm's shoulder, or else the neck or a
+    shoulder (presenting to a standing person at their chest, the robot's arm hides one
+    shoulder from its camera, and the arm's frame needs both); None when none is seen."""
+    if arm is not None:
+        return arm.shoulder
+    seen = (_keypoint(skeleton, index) for index in _UPPER_BODY)
+    return next((point for point in seen if point is not None), None)

@@ -205,6 +205,18 @@ def test_a_grasp_blocked_for_a_while_is_tried_again_and_fetched_though_the_inten
     )
 
 
+def test_a_blocked_grasp_looks_at_the_object_while_it_waits():
+    """Watching, the head is the watcher's; once a grasp finds no way, the robot looks at the
+    object, so the table before it comes into view for the next try."""
+    world = World(Planner(grasp_failures=1))
+    world.tick(1.0)
+    assert world.cycle.gaze() is None
+    world.target = "yellow"
+    world.tick(TICK)
+    assert world.cycle.cycle.phase is Phase.WATCH
+    np.testing.assert_allclose(world.cycle.gaze(), OBJECT)
+
+
 def test_a_gripper_closed_on_nothing_is_a_missed_grasp():
     world = _closed_on(0.0)
     record = world.until(Phase.FAILED)

@@ -8,14 +8,16 @@ import pytest
 from pydrake.systems.analysis import Simulator
 
 from hsr_handover.effectivity.arm_map import load_or_build
+from hsr_handover.effectivity.person_map import receiving_arm
 from hsr_handover.handover.cycle import PATIENCE_S, Failure, Phase
 from hsr_handover.handover.look_round import LOOK_AROUND_PANS, LOOK_DWELL_S, LOOK_ROUND_S
 from hsr_handover.hsr import COMMANDED_JOINTS
 from hsr_handover.intent import IntentState
+from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.perception.object_detection import DetectionResult
 from hsr_handover.perception.skeleton import Skeleton
 from hsr_handover.planning.perceived_scene import PerceivedScene
-from hsr_handover.systems.handover_supervisor import HandoverSupervisor
+from hsr_handover.systems.handover_supervisor import HandoverSupervisor, _person_point
 
 PAN = COMMANDED_JOINTS.index("head_pan_joint")
 OPENING = 0.02
@@ -62,3 +64,17 @@ def test_a_request_for_an_object_it_never_perceived_fails_as_unreachable(supervi
     cycle = system.GetOutputPort("cycle").Eval(context)
     assert cycle.phase is Phase.FAILED and cycle.failure is Failure.UNREACHABLE
     assert cycle.target == "purple" and "purple" in cycle.reason
+
+
+def test_a_person_with_one_shoulder_hidden_is_still_in_view():
+    """Presenting to a standing person at their chest, the robot's arm hides one shoulder: the
+    receiving arm's frame (both shoulders) is gone, but the person is not."""
+    points = np.full((18, 3), np.nan)
+    confidence = np.zeros(18)
+    neck, shoulder = keypoint_index("neck"), keypoint_index("r_shoulder")
+    points[[neck, shoulder]] = [[1.5, 0.2, 1.5], [1.5, 0.35, 1.45]]
+    confidence[[neck, shoulder]] = 0.9
+    skeleton = Skeleton(np.zeros((18, 2)), points, confidence)
+    assert receiving_arm([skeleton]) is None
+    np.testing.assert_allclose(_person_point(skeleton, None), points[neck])
+    assert _person_point(Skeleton.missing("no person"), None) is None
