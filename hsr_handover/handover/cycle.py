@@ -47,7 +47,7 @@ class Failure(enum.Enum):
 
 HELD_OPENING = 0.01
 """m: a gripper closed on an object reads at least this (closed on nothing it reads ~0)."""
-OPEN = 0.1  # m of opening to approach with
+OPEN = 0.1  # m of opening to approach with, unless the grasp's plan says how wide
 LET_GO = 0.03
 """m the fingers open beyond the object's width to let go: no wider, so the finger on the
 person's side does not sweep into the hand that has just taken the object."""
@@ -118,10 +118,11 @@ RETRY_EVERY_S = 1.0  # s between those tries
 FOLLOW_EVERY_S = 1.0  # s between tries to follow the hand (a hand out of reach fails each)
 WAIT_S = 12.0  # s the robot presents the object before it gives up (HandoverSim's 13 s limit)
 LOST_S = 2.0
-"""s while presenting without seeing the person (the neck or a shoulder) or their receiving
-hand: the person withdrew. The robot's own arm often hides a shoulder while the hand takes the
-object (the reference run's trial 46 gave up on a person pulling at the object, wrist in view;
-presenting to a standing person at their chest, it hides one shoulder throughout)."""
+"""s while presenting without seeing any of the person (the neck, a shoulder, the face) or their
+receiving hand: the person withdrew. The robot's own arm often hides a shoulder while the hand
+takes the object (the reference run's trial 46 gave up on a person pulling at the object, wrist
+in view); presenting to a standing person at their chest, the arm and the object can hide the
+whole torso, and only the eyes show over them (the standing layout's trial 9 of seed 1)."""
 
 
 class Motion(Protocol):
@@ -139,11 +140,12 @@ class Percepts:
     gripper's measured `opening` (m), the `target` recognised (None until one is), the target
     object's centre as the camera sees it now (`object_seen`, None when not in view), the
     receiving hand from the skeleton (`hand`, None when not seen), the palm's point by forward
-    kinematics of `q` (`palm`), a point on the person seen now (`person`: the receiving
-    shoulder, or else the neck or a shoulder; None when the person is not in view), how far
+    kinematics of `q` (`palm`), a point on the person's body seen now (`person`: the
+    receiving shoulder, or else the neck or a shoulder; None when none is in view), how far
     the joint sensors put the palm from where it is commanded (`pull`, m: a person tugging at
-    the object held) and the force the hand and its load exert on the wrist's sensor
-    (`wrist_force`, N, world; None without the sensor)."""
+    the object held), the force the hand and its load exert on the wrist's sensor
+    (`wrist_force`, N, world; None without the sensor) and a point of the person's face seen
+    now (`face`: the nose, an eye or an ear; None when none is)."""
 
     time: float
     q: np.ndarray
@@ -155,6 +157,7 @@ class Percepts:
     person: np.ndarray | None = None
     pull: float = 0.0
     wrist_force: np.ndarray | None = None
+    face: np.ndarray | None = None
 
 
 @dataclasses.dataclass(frozen=True)
@@ -168,6 +171,7 @@ class PlannedMotions:
     seconds: float = 0.0
     held: object = None  # a grasp's: the object as the hand will hold it, for later plans
     view: PlanView | None = None  # what the plan shows in the replay
+    opening: float | None = None  # a grasp's: the gripper's opening (m) to approach with
 
 
 class CyclePlanner(Protocol):
@@ -307,7 +311,7 @@ class HandoverCycle:
             return
         *reach, lift = planned.motions
         self._lift_motion, self._held = lift, planned.held
-        self._gripper = OPEN
+        self._gripper = OPEN if planned.opening is None else planned.opening
         self._enter(Phase.APPROACH, p.time)
         self._queue = list(reach)
 
@@ -352,7 +356,7 @@ class HandoverCycle:
         self._carried_force = p.wrist_force
 
     def _present(self, p: Percepts) -> None:
-        if p.person is not None or p.hand is not None:
+        if any(point is not None for point in (p.person, p.face, p.hand)):
             self._seen_at = p.time
         if p.hand is not None and _distance(p.hand, p.palm) <= REACH:
             self._hand_at_object = p.time

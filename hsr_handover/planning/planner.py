@@ -102,8 +102,8 @@ def holding(scene: PlanningScene, held: Held | None, q_now: np.ndarray):
 class Plan:
     """`ok` with the `motions` ending at the configuration `goal`, or not with the `reason`;
     the wall `seconds` of each of STAGES and the IK solves tried; for a grasp, the object as
-    it will be `held`; for a handover, the `pose` chosen (the maps and the point, for the
-    replay)."""
+    it will be `held` and the gripper's `opening` (m) on the way in, planned open from the
+    start; for a handover, the `pose` chosen (the maps and the point, for the replay)."""
 
     ok: bool
     reason: str
@@ -114,6 +114,7 @@ class Plan:
     goal: np.ndarray | None = None
     held: Held | None = None
     pose: HandoverPose | None = None
+    opening: float | None = None
 
     @property
     def duration(self) -> float:
@@ -140,18 +141,26 @@ def plan_grasp(
     seconds = dict.fromkeys(STAGES, 0.0) | {"ik": found.seconds}
     if not found.ok:
         return Plan(False, found.reason, label, seconds=seconds, ik_solves=found.ik_solves)
-    closed = found.q_grasp.copy()  # the gripper closes on the object between the legs
-    closed[scene.index(GRIPPER_JOINT)] = found.q_lifted[scene.index(GRIPPER_JOINT)]
-    closed[scene.index(GRIPPER_MIMIC_JOINT)] = found.q_lifted[scene.index(GRIPPER_MIMIC_JOINT)]
-    legs = (("move", (), q_now, found.q_pregrasp),
+    closed = _fingers_as(scene, found.q_grasp, found.q_lifted)  # it closes between the legs
+    # The gripper opens as the robot sets off: planned opening gradually, fingers opened at
+    # once cut 2 cm into the table (the standing layout's trial 7, seed 1).
+    opened = _fingers_as(scene, q_now, found.q_pregrasp)
+    legs = (("move", (), opened, found.q_pregrasp),
             ("approach", (label,), found.q_pregrasp, found.q_grasp),
             ("lift", (label,), closed, found.q_lifted))  # fmt: skip
     plan = _plan_legs(scene, label, legs, limits, seconds, found.ik_solves)
-    return (
-        dataclasses.replace(plan, held=Held(label, closed, scene.scene.object_named(label)))
-        if plan.ok
-        else plan
-    )
+    if not plan.ok:
+        return plan
+    held = Held(label, closed, scene.scene.object_named(label))
+    return dataclasses.replace(plan, held=held, opening=found.grasp.opening)
+
+
+def _fingers_as(scene: PlanningScene, q: np.ndarray, like: np.ndarray) -> np.ndarray:
+    """`q` with the fingers as they are in `like`."""
+    q = q.copy()
+    for joint in (GRIPPER_JOINT, GRIPPER_MIMIC_JOINT):
+        q[scene.index(joint)] = like[scene.index(joint)]
+    return q
 
 
 def plan_handover(

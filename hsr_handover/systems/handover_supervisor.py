@@ -118,7 +118,7 @@ class HandoverSupervisor(LeafSystem):
         )
         wrist_force = palm_pose.rotation() @ self._wrench.Eval(context)[3:]
         return Percepts(context.get_time(), q, opening, target, seen, _wrist(skeleton), palm,
-                        person, float(pull), wrist_force)  # fmt: skip
+                        person, float(pull), wrist_force, _face(skeleton))  # fmt: skip
 
     def _calc_state(self, context: Context, output: BasicVector) -> None:
         time = context.get_time()
@@ -152,6 +152,7 @@ class HandoverSupervisor(LeafSystem):
 
 _WRIST = keypoint_index(f"{RECEIVING_SIDE}_wrist")
 _UPPER_BODY = tuple(keypoint_index(name) for name in ("neck", "r_shoulder", "l_shoulder"))
+_FACE = tuple(keypoint_index(name) for name in ("nose", "r_eye", "l_eye", "r_ear", "l_ear"))
 
 
 def _keypoint(skeleton, index: int) -> np.ndarray | None:
@@ -167,11 +168,20 @@ def _wrist(skeleton) -> np.ndarray | None:
     return _keypoint(skeleton, _WRIST)
 
 
+def _first_seen(skeleton, indices: tuple[int, ...]) -> np.ndarray | None:
+    seen = (_keypoint(skeleton, index) for index in indices)
+    return next((point for point in seen if point is not None), None)
+
+
+def _face(skeleton) -> np.ndarray | None:
+    """A point of the person's face seen now (the nose, an eye or an ear), None if none is."""
+    return _first_seen(skeleton, _FACE)
+
+
 def _person_point(skeleton, arm: HumanArm | None) -> np.ndarray | None:
     """A point on the person seen now: the receiving arm's shoulder, or else the neck or a
     shoulder (presenting to a standing person at their chest, the robot's arm hides one
     shoulder from its camera, and the arm's frame needs both); None when none is seen."""
     if arm is not None:
         return arm.shoulder
-    seen = (_keypoint(skeleton, index) for index in _UPPER_BODY)
-    return next((point for point in seen if point is not None), None)
+    return _first_seen(skeleton, _UPPER_BODY)

@@ -55,6 +55,7 @@ class Planner:
 
     grasp_ok: bool = True
     grasp_failures: int = 0  # grasps that find no way before one does
+    opening: float | None = None  # the grasp's opening to approach with (None: the default)
     asked: list = dataclasses.field(default_factory=list)
 
     def grasp(self, label, q):
@@ -63,7 +64,7 @@ class Planner:
             return PlannedMotions(False, "unreachable: no base pose reaches it", seconds=0.2)
         motions = (("move", Line(q, q + 1)), ("approach", Line(q + 1, q + 2)),
                    ("lift", Line(q + 2, q + 3)))  # fmt: skip
-        return PlannedMotions(True, "ok", motions, 0.3, held="the grasp")
+        return PlannedMotions(True, "ok", motions, 0.3, held="the grasp", opening=self.opening)
 
     def carry(self, q, held):
         self.asked.append(("carry", held))
@@ -89,6 +90,7 @@ class World:
         self.hand = None
         self.palm = np.array([1.2, 0.2, 0.95])
         self.person, self.pull = np.array([1.7, 0.2, 1.2]), 0.0
+        self.face = None
         self.wrist_force = np.array([0.0, 0.0, -WEIGHT])  # N: the hand and its load hang
 
     def tick(self, seconds: float = TICK):
@@ -99,7 +101,7 @@ class World:
             self.q = self.q if q is None else q
             percepts = Percepts(self.time, self.q, self.opening, self.target, self.seen,
                                 self.hand, self.palm, self.person, self.pull,
-                                self.wrist_force)  # fmt: skip
+                                self.wrist_force, self.face)  # fmt: skip
             record = self.cycle.step(percepts)
         return record
 
@@ -167,6 +169,14 @@ def test_the_gripper_closes_only_once_the_approach_is_done():
     np.testing.assert_allclose(world.cycle.gaze(), OBJECT)  # it watches its hand's work
     world.until(Phase.GRASP)
     assert world.cycle.command(world.time)[2] == CLOSED
+
+
+def test_it_approaches_with_the_gripper_as_wide_as_the_grasp_was_planned():
+    world = World(Planner(opening=0.11))  # an 8 cm cup, 3 cm to spare
+    world.target = "blue"
+    world.tick(0.5)
+    assert world.cycle.cycle.phase is Phase.APPROACH
+    assert world.cycle.command(world.time)[2] == 0.11
 
 
 def test_lifted_it_looks_at_the_person_before_planning_the_carry():
@@ -266,6 +276,19 @@ def test_a_hand_in_view_at_the_object_is_a_person_in_view_though_the_shoulders_a
     world.tick(LOST_S + 1.0)
     assert world.cycle.cycle.phase is Phase.PRESENT
     world.hand = None
+    record = world.until(Phase.FAILED)
+    assert record.failure is Failure.PERSON_WITHDREW
+
+
+def test_a_face_over_the_object_is_a_person_in_view_though_the_body_is_hidden():
+    """Presenting to a standing person at their chest, the arm and the object hide the torso
+    and the hand: only the eyes show over them."""
+    world = _presenting()
+    world.person, world.hand = None, None
+    world.face = np.array([1.7, 0.2, 1.65])
+    world.tick(LOST_S + 1.0)
+    assert world.cycle.cycle.phase is Phase.PRESENT
+    world.face = None
     record = world.until(Phase.FAILED)
     assert record.failure is Failure.PERSON_WITHDREW
 

@@ -17,7 +17,7 @@ from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.perception.object_detection import DetectionResult
 from hsr_handover.perception.skeleton import Skeleton
 from hsr_handover.planning.perceived_scene import PerceivedScene
-from hsr_handover.systems.handover_supervisor import HandoverSupervisor, _person_point
+from hsr_handover.systems.handover_supervisor import HandoverSupervisor, _face, _person_point
 
 PAN = COMMANDED_JOINTS.index("head_pan_joint")
 OPENING = 0.02
@@ -78,3 +78,15 @@ def test_a_person_with_one_shoulder_hidden_is_still_in_view():
     assert receiving_arm([skeleton]) is None
     np.testing.assert_allclose(_person_point(skeleton, None), points[neck])
     assert _person_point(Skeleton.missing("no person"), None) is None
+
+
+def test_the_face_is_read_apart_from_the_body():
+    """Eyes alone are a face seen, not a point of the body to hand toward."""
+    points = np.full((18, 3), np.nan)
+    confidence = np.zeros(18)
+    eye = keypoint_index("l_eye")
+    points[eye], confidence[eye] = [1.5, 0.25, 1.65], 0.8
+    skeleton = Skeleton(np.zeros((18, 2)), points, confidence)
+    np.testing.assert_allclose(_face(skeleton), points[eye])
+    assert _person_point(skeleton, None) is None
+    assert _face(Skeleton.missing("no person")) is None

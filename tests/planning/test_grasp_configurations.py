@@ -13,12 +13,12 @@ from hsr_handover.effectivity import mutual_area
 from hsr_handover.effectivity.arm_map import load_or_build
 from hsr_handover.effectivity.mutual_area import ABOVE_TABLE
 from hsr_handover.effectivity.person_map import HumanArm, PersonEffectivity
-from hsr_handover.hsr import BASE_JOINTS, PALM_FRAME
+from hsr_handover.hsr import BASE_JOINTS, FINGER_PER_OPENING, GRIPPER_JOINT, PALM_FRAME
 from hsr_handover.perception.object_shapes import CYLINDER, ObjectShape
 from hsr_handover.perception.table_fit import TableEstimate
 from hsr_handover.planning import planner
 from hsr_handover.planning.grasp_configurations import UNREACHABLE, grasp_configurations
-from hsr_handover.planning.grasps import LIFT_HEIGHT, PAD_OFFSET
+from hsr_handover.planning.grasps import GRIP_CLEARANCE, LIFT_HEIGHT, PAD_OFFSET
 from hsr_handover.planning.handover_pose import NO_MUTUAL_AREA, plan_handover_pose
 from hsr_handover.planning.inverse_kinematics import MIN_DISTANCE, PalmGoal, solve_palm_ik
 from hsr_handover.planning.perceived_scene import Capsule, PerceivedScene
@@ -229,6 +229,12 @@ def test_a_grasp_plan_is_timed_and_clear_every_10_ms(scene, arm_map):
     assert 1.0 < plan.duration < 15.0
     for motion in plan.motions:
         assert timed_clearance(scene, motion) >= COLLISION_BOUND - 0.012
+    # The gripper opens as the robot sets off: the move is planned open from its start, as
+    # wide as the grasp's opening, which the robot is told to command.
+    finger = scene.index(GRIPPER_JOINT)
+    _, moving = plan.motions[0].timed.sample(0.01)
+    np.testing.assert_allclose(moving[:, finger], FINGER_PER_OPENING * plan.opening, atol=1e-6)
+    assert plan.opening == pytest.approx(0.07 + GRIP_CLEARANCE)
     _, positions = plan.motions[2].timed.sample(0.01)
     np.testing.assert_allclose(positions[-1], plan.goal, atol=1e-6)
     lifted, _ = _pads(scene, plan.goal)
