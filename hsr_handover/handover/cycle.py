@@ -47,7 +47,10 @@ class Failure(enum.Enum):
 
 HELD_OPENING = 0.01
 """m: a gripper closed on an object reads at least this (closed on nothing it reads ~0)."""
-OPEN = 0.1  # m of opening to approach with, unless the grasp's plan says how wide
+OPEN = 0.1
+"""m of opening to approach with. The plans' own (the object's width and 3 cm, 11 cm for the
+8 cm cup) was tried: the reference run's trial 53 then held the cup so that the person's hand
+never came for it (session 15)."""
 LET_GO = 0.03
 """m the fingers open beyond the object's width to let go: no wider, so the finger on the
 person's side does not sweep into the hand that has just taken the object."""
@@ -171,7 +174,6 @@ class PlannedMotions:
     seconds: float = 0.0
     held: object = None  # a grasp's: the object as the hand will hold it, for later plans
     view: PlanView | None = None  # what the plan shows in the replay
-    opening: float | None = None  # a grasp's: the gripper's opening (m) to approach with
 
 
 class CyclePlanner(Protocol):
@@ -311,7 +313,7 @@ class HandoverCycle:
             return
         *reach, lift = planned.motions
         self._lift_motion, self._held = lift, planned.held
-        self._gripper = OPEN if planned.opening is None else planned.opening
+        self._gripper = OPEN
         self._enter(Phase.APPROACH, p.time)
         self._queue = list(reach)
 

@@ -139,7 +139,7 @@ class PerceivedPlanner:
         motions = tuple((motion.name, TimedMotion(motion.timed)) for motion in plan.motions)
         seconds = time.perf_counter() - started  # the replay's view is not planning
         view = _view(plan, motions, self.palm, person)
-        return PlannedMotions(True, "ok", motions, seconds, plan.held, view, plan.opening)
+        return PlannedMotions(True, "ok", motions, seconds, plan.held, view)
 
     def grasp(self, label: str, q: np.ndarray) -> PlannedMotions:
         started = time.perf_counter()

@@ -102,8 +102,8 @@ def holding(scene: PlanningScene, held: Held | None, q_now: np.ndarray):
 class Plan:
     """`ok` with the `motions` ending at the configuration `goal`, or not with the `reason`;
     the wall `seconds` of each of STAGES and the IK solves tried; for a grasp, the object as
-    it will be `held` and the gripper's `opening` (m) on the way in, planned open from the
-    start; for a handover, the `pose` chosen (the maps and the point, for the replay)."""
+    it will be `held`; for a handover, the `pose` chosen (the maps and the point, for the
+    replay)."""
 
     ok: bool
     reason: str
@@ -114,7 +114,6 @@ class Plan:
     goal: np.ndarray | None = None
     held: Held | None = None
     pose: HandoverPose | None = None
-    opening: float | None = None
 
     @property
     def duration(self) -> float:
@@ -142,8 +141,9 @@ def plan_grasp(
     if not found.ok:
         return Plan(False, found.reason, label, seconds=seconds, ik_solves=found.ik_solves)
     closed = _fingers_as(scene, found.q_grasp, found.q_lifted)  # it closes between the legs
-    # The gripper opens as the robot sets off: planned opening gradually, fingers opened at
-    # once cut 2 cm into the table (the standing layout's trial 7, seed 1).
+    # The gripper opens as the robot sets off (10 cm, within the pre-grasp's opening):
+    # planned opening gradually, fingers opened at once cut 2 cm into the table (the standing
+    # layout's trial 7, seed 1).
     opened = _fingers_as(scene, q_now, found.q_pregrasp)
     legs = (("move", (), opened, found.q_pregrasp),
             ("approach", (label,), found.q_pregrasp, found.q_grasp),
@@ -152,7 +152,7 @@ def plan_grasp(
     if not plan.ok:
         return plan
     held = Held(label, closed, scene.scene.object_named(label))
-    return dataclasses.replace(plan, held=held, opening=found.grasp.opening)
+    return dataclasses.replace(plan, held=held)
 
 
 def _fingers_as(scene: PlanningScene, q: np.ndarray, like: np.ndarray) -> np.ndarray:

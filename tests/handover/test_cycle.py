@@ -55,7 +55,6 @@ class Planner:
 
     grasp_ok: bool = True
     grasp_failures: int = 0  # grasps that find no way before one does
-    opening: float | None = None  # the grasp's opening to approach with (None: the default)
     asked: list = dataclasses.field(default_factory=list)
 
     def grasp(self, label, q):
@@ -64,7 +63,7 @@ class Planner:
             return PlannedMotions(False, "unreachable: no base pose reaches it", seconds=0.2)
         motions = (("move", Line(q, q + 1)), ("approach", Line(q + 1, q + 2)),
                    ("lift", Line(q + 2, q + 3)))  # fmt: skip
-        return PlannedMotions(True, "ok", motions, 0.3, held="the grasp", opening=self.opening)
+        return PlannedMotions(True, "ok", motions, 0.3, held="the grasp")
 
     def carry(self, q, held):
         self.asked.append(("carry", held))
@@ -169,14 +168,6 @@ def test_the_gripper_closes_only_once_the_approach_is_done():
     np.testing.assert_allclose(world.cycle.gaze(), OBJECT)  # it watches its hand's work
     world.until(Phase.GRASP)
     assert world.cycle.command(world.time)[2] == CLOSED
-
-
-def test_it_approaches_with_the_gripper_as_wide_as_the_grasp_was_planned():
-    world = World(Planner(opening=0.11))  # an 8 cm cup, 3 cm to spare
-    world.target = "blue"
-    world.tick(0.5)
-    assert world.cycle.cycle.phase is Phase.APPROACH
-    assert world.cycle.command(world.time)[2] == 0.11
 
 
 def test_lifted_it_looks_at_the_person_before_planning_the_carry():
