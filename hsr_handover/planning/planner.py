@@ -141,8 +141,9 @@ def plan_grasp(
     if not found.ok:
         return Plan(False, found.reason, label, seconds=seconds, ik_solves=found.ik_solves)
     closed = _fingers_as(scene, found.q_grasp, found.q_lifted)  # it closes between the legs
-    # The gripper opens as the robot sets off (10 cm, within the pre-grasp's opening):
-    # planned opening gradually, fingers opened at once cut 2 cm into the table (the standing
+    # The robot opens the gripper at once as it sets off (to 10 cm, within 1 cm of the
+    # pre-grasp's width and GRIP_CLEARANCE), so the move is planned open from its start: a move
+    # planned opening gradually had the open fingers cut 2 cm into the table (the standing
     # layout's trial 7, seed 1).
     opened = _fingers_as(scene, q_now, found.q_pregrasp)
     legs = (("move", (), opened, found.q_pregrasp),
