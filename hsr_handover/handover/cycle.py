@@ -49,8 +49,10 @@ HELD_OPENING = 0.01
 """m: a gripper closed on an object reads at least this (closed on nothing it reads ~0)."""
 OPEN = 0.1
 """m of opening to approach with. The plans' own (the object's width and 3 cm, 11 cm for the
-8 cm cup) was tried: the reference run's trial 53 then held the cup so that the person's hand
-never came for it (session 15)."""
+8 cm cup) was tried: the reference run's trial 53 then timed out, the person's hand never
+coming for the cup (session 15). Untraced; the same symptom was later traced to a cup held
+out 8 mm beyond the person's reach (session 16), so the opening may not have been the cause.
+The move is planned at the plan's own opening (`planner.plan_grasp`), up to 1 cm off this."""
 LET_GO = 0.03
 """m the fingers open beyond the object's width to let go: no wider, so the finger on the
 person's side does not sweep into the hand that has just taken the object."""
