@@ -103,9 +103,13 @@ The pull must also point within TUG_CONE_DEG of the person: a hand closing on th
 the side pushes it sideways and up (7 N across, 4 N toward the person in trial 44)."""
 TUG_CONE_DEG = 45.0
 TAKEN_S = 1.0
-"""s after a hand was last seen at the object, or a tug felt, within which fingers that close
-on nothing mean the person drew it out (the wrist is soon farther off than REACH as the arm
-draws it in, and the robot's own arm often hides the hand from its camera)."""
+"""s after a hand was last seen at the object, or the object felt held, within which fingers
+that close on nothing mean the person drew it out (the wrist is soon farther off than REACH as
+the arm draws it in, and the robot's own arm often hides the hand from its camera). Held is a
+tug, or a load pulled across by over TUG at two decisions in a row while the fingers still
+hold, whichever way: gravity pulls a slipping object only down, and a knock is felt once (the
+standing layout's trial 5 of seed 2: a hand the arm hid drew the cup out with 9 N across, 63
+degrees off the person, for a second, and the robot called it dropped)."""
 PATIENCE_S = 6.0
 """s the robot keeps trying a plan that finds no way, on fresh percepts, before it gives up: a
 pointing arm held over the object blocks every grasp until the person lowers it (6 of the
@@ -242,6 +246,7 @@ class HandoverCycle:
         self._hand_at_object = -math.inf  # when a hand was last seen at, or tugged, the object
         self._carried_force: np.ndarray | None = None  # on the wrist as it began presenting
         self._tugged = False  # whether the last decision felt a tug
+        self._held_felt = False  # whether the last decision felt the object pulled across
         self._hand_rest: tuple[np.ndarray, float] | None = None  # (where, since when) presenting
         self._held_width = math.inf  # the opening closed on the object
         self._followed_at = -math.inf  # when it last tried to follow the hand
@@ -366,8 +371,10 @@ class HandoverCycle:
             self._hand_at_object = p.time
         felt = self._tug(p) > TUG
         tugged, self._tugged = felt and self._tugged, felt  # felt now and at the last decision
-        if tugged:
+        held = p.opening >= HELD_OPENING and self._pulled_across(p)
+        if tugged or (held and self._held_felt):
             self._hand_at_object = p.time
+        self._held_felt = held
         if p.pull > PULL or tugged:
             if not self._moving(p.time):
                 self._let_go(p)
@@ -434,6 +441,12 @@ class HandoverCycle:
         change, toward = felt
         # The force on the wrist points where the load is pulled: toward the person.
         return float(change @ toward) if _toward(change, toward) else 0.0
+
+    def _pulled_across(self, p: Percepts) -> bool:
+        """Whether the load on the wrist has changed by over TUG in the horizontal since the
+        robot began presenting: something other than gravity has hold of the object."""
+        felt = self._load_change(p)
+        return felt is not None and float(np.linalg.norm(felt[0][:2])) > TUG
 
     def _knocked(self, p: Percepts) -> bool:
         """Whether the wrist feels the object knocked rather than drawn: a change of load over

@@ -445,6 +445,37 @@ def test_fingers_closing_with_no_hand_at_the_object_lately_is_a_drop():
     assert record.failure is Failure.DROPPED
 
 
+def test_fingers_emptied_by_a_pull_across_with_the_hand_and_object_unseen_is_a_handover():
+    """The standing layout's trial 5 of seed 2: a hand the robot's arm hid closed on the cup and
+    drew it out with 9 N across, 63 degrees off the person (no tug), the object out of the
+    camera's view: the robot lets go rather than calling it dropped."""
+    world = _presenting()
+    across = np.cross(_toward_person(world, 1.0), [0.0, 0.0, 1.0])
+    world.wrist_force = np.array([0.0, 0.0, -WEIGHT]) + 3 * TUG * across
+    world.tick(TICK)  # felt once: could be a knock
+    world.wrist_force = np.array([0.0, 0.0, -WEIGHT])
+    world.tick(TAKEN_S + TICK)
+    world.opening = 0.0
+    world.tick(EMPTY_S - TICK)
+    assert world.cycle.cycle.phase is Phase.PRESENT  # one knock long ago: it looks first
+    world.opening = 0.06
+    world.wrist_force = np.array([0.0, 0.0, -WEIGHT]) + 3 * TUG * across
+    world.tick(3 * TICK)  # held and pulled across
+    world.opening = 0.0
+    world.tick()
+    assert world.cycle.cycle.phase is Phase.RELEASE and world.cycle.cycle.failure is None
+
+
+def test_a_heavy_object_slipping_out_is_dropped_though_its_weight_is_over_a_tug():
+    world = _presenting()
+    world.wrist_force = np.array([0.0, 0.0, -WEIGHT + 2 * TUG])  # its weight going, still held
+    world.tick(3 * TICK)
+    world.opening = 0.0
+    world.seen = OBJECT.copy()  # fallen back onto the table
+    record = world.until(Phase.FAILED)
+    assert record.failure is Failure.DROPPED
+
+
 def test_fingers_closing_with_the_object_still_up_and_the_hand_unseen_is_a_handover():
     """A hand hidden by the robot's own arm drew the object out, its tug pointing away from
     the person: the camera sees the object still up, in the person's hand."""
