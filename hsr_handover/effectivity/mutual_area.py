@@ -7,7 +7,8 @@ point straight ahead of the receiving shoulder, COMFORT_PITCH_DEG below level, a
 of the arm's full reach, the elbow bent as in a relaxed reach (Cakmak et al. 2011: receivers
 prefer the poses they would choose themselves; the 70 % and 20 degrees are this project's
 choice within that). The point handed over at is the mutual-area node nearest that ideal, at
-least ABOVE_TABLE over the table's top and AWAY_FROM_BODY from the body's capsules. Where the
+least ABOVE_TABLE over the table's top, AWAY_FROM_BODY from the body's capsules and within
+MOST_REACH of the arm's full reach (a person does not take things at full stretch). Where the
 robot cannot stand to hand over in front (a person standing behind a table), the same point
 turned toward the receiving arm's side by SIDE_TURNS_DEG is the next aim: handed from the side,
 as people hand things to someone beside them.
@@ -26,6 +27,11 @@ COMFORT_REACH = 0.7  # of the arm's full reach
 COMFORT_PITCH_DEG = -20.0  # below the shoulder's level
 ABOVE_TABLE = 0.15  # m over the table's top: an object held and the hands around it
 AWAY_FROM_BODY = 0.10  # m from the body's capsules' surface
+MOST_REACH = 0.9
+"""of the arm's full reach: the farthest from the shoulder a handover point may be. The range's
+edge is the arm at full stretch, and the perceived arm's lengths and shoulder are a few cm off
+(the moved layout's trial 3 of seed 2: a cup held at 0.89 of the perceived reach was 8 mm beyond
+the person's)."""
 SIDE_TURNS_DEG = (0.0, 30.0, 60.0)  # the aims, turned from straight ahead toward the arm's side
 
 
@@ -59,14 +65,17 @@ def handover_point(
     suitable mutual node nearest `aim` (the ideal point when None); and the mutual mask over
     `robot_nodes` (n, 3, world). `body` holds capsules with `distance(points)`."""
     mutual = mutual_mask(robot_nodes, person)
-    suitable = mutual.copy()
+    arm = person.arm
+    suitable = mutual & (
+        np.linalg.norm(robot_nodes - arm.shoulder, axis=1) <= MOST_REACH * arm.reach
+    )
     if table_height is not None:
         suitable &= robot_nodes[:, 2] >= table_height + ABOVE_TABLE
     for capsule in body:
         suitable &= capsule.distance(robot_nodes) >= AWAY_FROM_BODY
     if not suitable.any():
         return None, mutual
-    aim = ideal_handover_point(person.arm) if aim is None else aim
+    aim = ideal_handover_point(arm) if aim is None else aim
     candidates = np.flatnonzero(suitable)
     best = candidates[np.argmin(np.linalg.norm(robot_nodes[candidates] - aim, axis=1))]
     return robot_nodes[best].copy(), mutual

@@ -31,6 +31,11 @@ UPPER_ARM_PER_HEIGHT = 0.186
 FOREARM_PER_HEIGHT = 0.146
 HAND_PER_HEIGHT = 0.108
 PALM_SHARE = 0.5  # of the hand's length past the wrist: where an object is held
+SHOULDER_DEPTH = 0.06
+"""m the shoulder joint's centre lies behind its keypoint: a lifted keypoint is the front of the
+body (`perception.skeleton`), and the joint is about a deltoid's depth behind it (the perceived
+scene's shoulder capsule has the same radius). Taken at the keypoint, the moved layout's trial 3
+of seed 2 put the shoulder 11 cm toward the robot and held the cup 8 mm beyond the reach."""
 PLAUSIBLE = (0.7, 1.4)  # a perceived segment within these shares of the ratio's length is kept
 RANGES_DEG = np.array([[-40.0, 170.0],  # flexion, 0 hanging, 90 forward level
                        [-30.0, 150.0],  # abduction, 0 hanging, 90 out to the side
@@ -42,9 +47,9 @@ SAMPLES, SIGNALS, MAX_NODES, MU3 = 20_000, 60_000, 250, 30.0
 
 @dataclasses.dataclass(frozen=True)
 class HumanArm:
-    """A perceived arm: its `side` ("r" or "l"), the shoulder in the world (m), the body frame's
-    rotation (3 x 3, columns forward, left, up) and the segment lengths (m): `upper` (shoulder to
-    elbow), `forearm` (elbow to wrist), `hand` (wrist to the palm's centre)."""
+    """A perceived arm: its `side` ("r" or "l"), the shoulder joint in the world (m), the body
+    frame's rotation (3 x 3, columns forward, left, up) and the segment lengths (m): `upper`
+    (shoulder to elbow), `forearm` (elbow to wrist), `hand` (wrist to the palm's centre)."""
 
     side: str
     shoulder: np.ndarray
@@ -139,7 +144,8 @@ def perceived_arm(points: np.ndarray, confidence: np.ndarray, side: str) -> Huma
     upper = _plausible(shoulder, elbow, UPPER_ARM_PER_HEIGHT * height)
     forearm = _plausible(elbow, wrist, FOREARM_PER_HEIGHT * height)
     frame = _body_frame(right, left, at("nose"))
-    return HumanArm(side, shoulder, frame, upper, forearm, PALM_SHARE * HAND_PER_HEIGHT * height)
+    joint = shoulder - SHOULDER_DEPTH * frame[:, 0]
+    return HumanArm(side, joint, frame, upper, forearm, PALM_SHARE * HAND_PER_HEIGHT * height)
 
 
 def _plausible(a: np.ndarray | None, b: np.ndarray | None, expected: float) -> float:

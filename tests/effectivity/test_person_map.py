@@ -10,6 +10,7 @@ import pytest
 from hsr_handover.effectivity.mutual_area import (
     ABOVE_TABLE,
     COMFORT_REACH,
+    MOST_REACH,
     SIDE_TURNS_DEG,
     handover_aims,
     handover_point,
@@ -18,6 +19,7 @@ from hsr_handover.effectivity.mutual_area import (
 from hsr_handover.effectivity.person_map import (
     HAND_PER_HEIGHT,
     PALM_SHARE,
+    SHOULDER_DEPTH,
     UPPER_ARM_PER_HEIGHT,
     HumanArm,
     PersonEffectivity,
@@ -98,6 +100,17 @@ def test_the_handover_point_nearest_an_aim(person):
     np.testing.assert_allclose(point, nodes[1])
 
 
+def test_the_handover_point_is_never_at_the_arms_full_stretch(person):
+    """A node the person reaches, but only at full stretch, is not handed over at even when it
+    is the aim: the perceived arm is a few cm off (the moved layout's trial 3 of seed 2)."""
+    arm = person.arm
+    stretched = arm.shoulder + FACING_MINUS_X @ np.array([0.95 * arm.reach, 0.0, -0.05])
+    nodes = np.array([stretched, ideal_handover_point(arm)])
+    point, mutual = handover_point(nodes, person, None, (), stretched)
+    assert mutual[0] and np.linalg.norm(stretched - arm.shoulder) > MOST_REACH * arm.reach
+    np.testing.assert_allclose(point, nodes[1])
+
+
 def test_the_handover_point_is_the_suitable_mutual_node_nearest_the_ideal(person):
     ideal = ideal_handover_point(person.arm)
     robot_nodes = np.array([
@@ -128,6 +141,9 @@ def test_the_arm_is_measured_on_the_skeleton_unless_implausible():
     points, confidence = _skeleton(upper=0.29)
     arm = perceived_arm(points, confidence, "r")
     np.testing.assert_allclose(arm.frame, FACING_MINUS_X, atol=1e-12)
+    # The keypoint is the front of the shoulder; the joint lies behind it, away from the face.
+    keypoint = points[keypoint_index("r_shoulder")]
+    np.testing.assert_allclose(arm.shoulder, keypoint + [SHOULDER_DEPTH, 0.0, 0.0])
     assert arm.upper == pytest.approx(0.29) and arm.forearm == pytest.approx(0.25)
     height = 0.38 / 0.259  # from the shoulders' width
     assert arm.hand == pytest.approx(PALM_SHARE * HAND_PER_HEIGHT * height)

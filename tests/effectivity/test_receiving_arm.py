@@ -7,6 +7,7 @@ import pytest
 
 from hsr_handover.effectivity.person_map import (
     FOREARM_PER_HEIGHT,
+    SHOULDER_DEPTH,
     SHOULDER_WIDTH_PER_HEIGHT,
     receiving_arm,
 )
@@ -27,13 +28,15 @@ def test_the_newest_skeleton_with_both_shoulders_gives_the_arm():
     newest, older = _skeleton(0.0), _skeleton(0.3)
     arm = receiving_arm([newest, older])
     assert arm.side == "r"
-    np.testing.assert_allclose(arm.shoulder, newest.points[keypoint_index("r_shoulder")])
+    behind = newest.points[keypoint_index("r_shoulder")] - SHOULDER_DEPTH * arm.frame[:, 0]
+    np.testing.assert_allclose(arm.shoulder, behind)
 
 
 def test_a_skeleton_without_a_shoulder_falls_back_to_the_last_glimpse():
     out_of_view, glimpse = _skeleton(without=("l_shoulder",)), _skeleton(0.3)
     arm = receiving_arm([out_of_view, glimpse])
-    np.testing.assert_allclose(arm.shoulder, glimpse.points[keypoint_index("r_shoulder")])
+    behind = glimpse.points[keypoint_index("r_shoulder")] - SHOULDER_DEPTH * arm.frame[:, 0]
+    np.testing.assert_allclose(arm.shoulder, behind)
     assert receiving_arm([out_of_view]) is None
     assert receiving_arm([]) is None
 
