@@ -29,8 +29,9 @@ from hsr_handover.scenario import load_scenario
 SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "intent_reference.yaml"
 GRID = {
     "pointing_ray": ("shoulder_wrist", "elbow_wrist"),
-    "d_min": (0.2, 0.3),
+    "d_min": (0.3, 0.4),
     "gaze_tolerance_deg": (8.0, 12.0),
+    "gaze_weight": (0.4, 1.0),
     "t_max": (0.3, 0.5),
     "steady_deg_s": (30.0, 1000.0),
     "smoothing_s": (0.6, 1.0),

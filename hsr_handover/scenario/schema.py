@@ -324,18 +324,20 @@ class IntentConfig:
     within `gaze_tolerance_deg` horizontally of the same object and no more than
     `gaze_pitch_tolerance_deg` above it, both for `t_max`, over rays averaged across
     `smoothing_s`, while the pointing arm turns slower than `steady_deg_s`; an arm that reads
-    bent for no longer than `bent_gap_s` goes on pointing. The meaning and the measured
-    defaults: `hsr_handover.intent.IntentParams`.
+    bent for no longer than `bent_gap_s` goes on pointing; `gaze_weight` weighs the eyes
+    against the arm between objects both allow. The meaning and the measured defaults:
+    `hsr_handover.intent.IntentParams`.
 
     Ranges: straight_arm_deg in (90, 180] deg; d_min in (0, 2] m; gaze_tolerance_deg and
-    gaze_pitch_tolerance_deg in (0, 90] deg; t_max in [0, 10] s; head_gain in [1, 3];
-    face_tilt_deg in [0, 90] deg; smoothing_s in [0, 10] s; steady_deg_s in (0, 1000] deg/s;
-    bent_gap_s in [0, 10] s."""
+    gaze_pitch_tolerance_deg in (0, 90] deg; gaze_weight in (0, 10]; t_max in [0, 10] s;
+    head_gain in [1, 3]; face_tilt_deg in [0, 90] deg; smoothing_s in [0, 10] s; steady_deg_s
+    in (0, 1000] deg/s; bent_gap_s in [0, 10] s."""
 
     straight_arm_deg: float = IntentParams.straight_arm_deg
     d_min: float = IntentParams.d_min
     gaze_tolerance_deg: float = IntentParams.gaze_tolerance_deg
     gaze_pitch_tolerance_deg: float = IntentParams.gaze_pitch_tolerance_deg
+    gaze_weight: float = IntentParams.gaze_weight
     t_max: float = IntentParams.t_max
     pointing_ray: str = IntentParams.pointing_ray
     head_gain: float = IntentParams.head_gain

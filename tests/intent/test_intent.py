@@ -111,6 +111,23 @@ def test_frames_that_do_not_ask_say_why():
     assert mismatched.status in (GAZE_ELSEWHERE, NOTHING_POINTED_AT)
 
 
+def test_an_arm_plainly_on_one_cup_outweighs_eyes_a_few_degrees_nearer_its_neighbour():
+    """The handover runs' wrong objects (the reference's trial 33 and four on the layouts): the
+    arm pointed nearest the cup asked for, the estimated gaze a few degrees nearer the next
+    one. With the gaze weighed as the arm (`gaze_weight` 1, `d_min` 0.3), the neighbour won."""
+    red, green = CUPS[0][1], CUPS[1][1]
+    toward_green = (green - red) / np.linalg.norm(green - red)
+    points, confidence = keypoints(
+        look_at=red + 0.14 * toward_green, point_with="right", point_at=red + 0.03 * toward_green
+    )
+    frame = judge_frame(points, confidence, CUPS, IntentParams())
+    assert frame.candidate == "red"
+    errors = bearing_errors_deg(frame.gaze, np.array([red, green]))
+    assert errors[1] < errors[0] < IntentParams().gaze_tolerance_deg  # the eyes favour green
+    gaze_as_arm = IntentParams(d_min=0.3, gaze_weight=1.0)
+    assert judge_frame(points, confidence, CUPS, gaze_as_arm).candidate == "green"
+
+
 def test_eyes_looking_over_the_table_do_not_ask_for_the_cup_the_arm_lies_toward():
     """A straight arm toward a cup, the head looking ahead over the table: the estimated gaze
     passes 20 degrees above the cup, beyond `gaze_pitch_tolerance_deg`; looking down at the
