@@ -93,10 +93,11 @@ class IntentParams:
     allow (the weight of the gaze's term in `judge`'s score). `d_min` 0.4 m with `gaze_weight`
     0.4 (session 17, `benchmarks/sweep_intent.py` on recorded percepts): on the intent
     reference (60 requests, 20 distractors) the same 98.3 % and 5 % false triggers as 0.3 m and
-    1.0; on three layouts never tuned on, 62 of 69 requests against 58, no more false
-    triggers. Weighed as the arm, the gaze chose the neighbour of an object the arm plainly
-    pointed at (the handover runs' five wrong objects); weighed less still (0.25), or with a
-    wider gate, the reference loses requests whose lifted arm is biased across the body.
+    1.0; on three other layouts (standing and moved, seed 2; staggered, seed 1), 62 of 69
+    requests against 58, no more false triggers. Weighed as the arm, the gaze chose the
+    neighbour of an object the arm plainly pointed at (the handover runs' five wrong objects);
+    weighed less (0.25, or 0.4 behind a 20 degree gate) the reference loses requests whose
+    lifted arm is biased across the body; a 20 degree gate lets eyes on a neighbour through.
     t_max: how long (s) the same object must be asked for.
     pointing_ray: one of POINTING_RAYS.
     head_gain: the eyes' turn over the head's (1 / 0.689, Stiefelhagen and Zhu 2002).

@@ -235,6 +235,7 @@ def test_looking_elsewhere_breaks_the_dwell():
         ("t_max", -1.0),
         ("pointing_ray", "nose"),
         ("gaze_pitch_tolerance_deg", 0.0),
+        ("gaze_weight", 0.0),
     ],  # fmt: skip
 )
 def test_params_are_checked(field, value):
