@@ -28,6 +28,7 @@ from hsr_handover.experiments.experiment import (
 )
 from hsr_handover.experiments.handover_scoring import HandoverScorer, TrialScore
 from hsr_handover.experiments.handover_trials import TIME_LIMIT_S, HandoverTrial, make_trials
+from hsr_handover.experiments.seating import sit_clear
 from hsr_handover.experiments.trials import Progress
 from hsr_handover.handover.cycle import Cycle, Phase
 from hsr_handover.scenario import Scenario
@@ -57,6 +58,7 @@ def run_handover_trial(trial: HandoverTrial) -> dict:
         return scorers[-1]
 
     replay = replay_while_running(trial.replay_dir, trial.index)
+    moved_back = sit_clear(trial.scenario)
     report = run_scenario(trial.scenario, replay, monitor_factory=scorer)
     names = {obj.color: obj.name for obj in trial.scenario.objects}
     row = judge(trial, report.cycle or Cycle(), scorers[0].score, report.person_holds, names)
@@ -66,7 +68,8 @@ def run_handover_trial(trial: HandoverTrial) -> dict:
     return {
         **row, "seed": trial.scenario.simulation.seed, "person_height_m": person.height,
         "person_x_m": person.position[0], "person_y_m": person.position[1],
-        "person_yaw_rad": person.yaw, "sim_s": report.sim_time,
+        "person_yaw_rad": person.yaw, "person_moved_back_m": moved_back,
+        "sim_s": report.sim_time,
         "wall_s": time.perf_counter() - start,
     }  # fmt: skip
 

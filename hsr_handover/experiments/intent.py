@@ -25,6 +25,7 @@ from hsr_handover.experiments.experiment import (
 )
 from hsr_handover.experiments.intent_percepts import PerceptRecorder
 from hsr_handover.experiments.intent_trials import IntentTrial, make_trials, object_positions
+from hsr_handover.experiments.seating import sit_clear
 from hsr_handover.experiments.trials import Progress
 from hsr_handover.literature import BREUER_POINTING_ERROR_DEG, BREUER_TARGETS_FOUND
 from hsr_handover.scenario import Scenario
@@ -48,6 +49,7 @@ def run_intent_trial(trial: IntentTrial) -> dict:
 
     monitor = recorder if trial.record_percepts else None
     replay = replay_while_running(trial.replay_dir, trial.index)
+    moved_back = sit_clear(trial.scenario)
     report = run_scenario(trial.scenario, replay, monitor_factory=monitor)
     robot = report.simulation.robot.diagram
     intent = robot.GetOutputPort("intent").Eval(report.simulation.robot_context(report.context))
@@ -62,7 +64,8 @@ def run_intent_trial(trial: IntentTrial) -> dict:
         "latency_s": latency, "confidence": intent.confidence,
         "seed": trial.scenario.simulation.seed, "person_height_m": person.height,
         "person_x_m": person.position[0], "person_y_m": person.position[1],
-        "person_yaw_rad": person.yaw, "sim_s": report.sim_time,
+        "person_yaw_rad": person.yaw, "person_moved_back_m": moved_back,
+        "sim_s": report.sim_time,
         "wall_s": time.perf_counter() - start,
         **({"percepts": recorders[0].frames} if recorders else {}),
     }  # fmt: skip

@@ -21,7 +21,7 @@ from hsr_handover.experiments.reporting import (  # noqa: E402
 CSV_COLUMNS = (
     "index", "kind", "target", "arm", "recognised", "latency_s", "recognised_time_s",
     "confidence", "seed", "person_height_m", "person_x_m", "person_y_m", "person_yaw_rad",
-    "sim_s", "wall_s", "arm_nearest", "arm_error_deg", "error",
+    "person_moved_back_m", "sim_s", "wall_s", "arm_nearest", "arm_error_deg", "error",
 )  # fmt: skip
 
 

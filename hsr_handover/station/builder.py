@@ -245,10 +245,21 @@ def build_station(scenario: Scenario, meshcat: Meshcat | None = None) -> Station
     return Station(diagram, plant, scene_graph, robot, person, table, objects, body, scenario)
 
 
-def check_initial_clearance(station: Station, tolerance: float = 1e-3) -> None:
-    """Raise ScenarioError when the robot or the person starts intersecting the table (or each
-    other) by more than `tolerance` m, as measured on the built scene's collision geometry."""
-    plant, scenario = station.plant, station.scenario
+@dataclasses.dataclass(frozen=True)
+class Overlap:
+    """Two of the robot, the person and the table intersecting at the start: the scenario's
+    `key` that places the first (`who`), the `other`, and the `depth` (m)."""
+
+    key: str
+    who: str
+    other: str
+    depth: float
+
+
+def initial_overlaps(station: Station, tolerance: float = 1e-3) -> list[Overlap]:
+    """Where the robot or the person starts intersecting the table (or each other) by more
+    than `tolerance` m, as measured on the built scene's collision geometry."""
+    plant = station.plant
     context = station.diagram.CreateDefaultContext()
     query: QueryObject = station.diagram.GetOutputPort(interface.TRUTH_QUERY_OBJECT).Eval(context)
     inspector = query.inspector()
@@ -257,6 +268,7 @@ def check_initial_clearance(station: Station, tolerance: float = 1e-3) -> None:
         station.person: ("person.position", "the person"),
         station.table: ("table.center", "the table"),
     }
+    overlaps = []
     for pair in query.ComputePointPairPenetration():
         if pair.depth <= tolerance:
             continue
@@ -267,8 +279,19 @@ def check_initial_clearance(station: Station, tolerance: float = 1e-3) -> None:
         named = [owners[i] for i in instances if i in owners]
         if len(named) == 2 and named[0] != named[1]:
             (key, who), (_, other) = sorted(named, key=lambda n: n[1] == "the table")
-            raise ScenarioError(
-                scenario.source,
-                key,
-                f"expected {who} clear of {other}; they intersect by {pair.depth * 100:.1f} cm",
-            )
+            overlaps.append(Overlap(key, who, other, float(pair.depth)))
+    return overlaps
+
+
+def check_initial_clearance(station: Station, tolerance: float = 1e-3) -> None:
+    """Raise ScenarioError when the robot or the person starts intersecting the table (or each
+    other) by more than `tolerance` m, as measured on the built scene's collision geometry."""
+    overlaps = initial_overlaps(station, tolerance)
+    if overlaps:
+        overlap = overlaps[0]
+        raise ScenarioError(
+            station.scenario.source,
+            overlap.key,
+            f"expected {overlap.who} clear of {overlap.other}; "
+            f"they intersect by {overlap.depth * 100:.1f} cm",
+        )
