@@ -133,8 +133,8 @@ class IntentParams:
         for name, (low, high, unit, closed) in _RANGES.items():
             value = getattr(self, name)
             if not (low <= value if closed else low < value) or not value <= high:
-                interval = f"{'[('[not closed]}{low:g}, {high:g}]"
-                raise ValueError(f"{name}: expected {interval} {unit}, got {value}".rstrip())
+                interval = f"{'[('[not closed]}{low:g}, {high:g}] {unit}".rstrip()
+                raise ValueError(f"{name}: expected {interval}, got {value}")
         if self.pointing_ray not in POINTING_RAYS:
             raise ValueError(f"pointing_ray: expected one of {POINTING_RAYS}")
 
