@@ -25,6 +25,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from hsr_handover.perception.body_check import body_consistent
 from hsr_handover.perception.coco18 import (
     COCO18_KEYPOINTS,
     COCO18_LIMBS,
@@ -332,7 +333,9 @@ def lift_keypoints(
     with the Xtion's depth (3.2).
 
     Each point is the body surface at the keypoint's pixel (a robust window median). A
-    keypoint without valid depth there keeps its pixel but gets confidence 0 and no point.
+    keypoint without valid depth there, or lifted where no body could hold it with the others
+    (`body_consistent`: onto an occluding edge), keeps its pixel but gets confidence 0 and no
+    point.
     """
     depth = checked_depth(depth, camera)
     pixels = np.asarray(pixels, dtype=float)
@@ -344,9 +347,11 @@ def lift_keypoints(
     pixels = np.where(detected[:, None], pixels, np.nan)
     surface_depth = np.full(NUM_KEYPOINTS, np.nan)
     surface_depth[detected] = window_depths(depth, pixels[detected])
-    lifted = np.isfinite(surface_depth)
     points = _no_keypoints(3)
+    lifted = np.isfinite(surface_depth)
     points[lifted] = camera.deproject(pixels[lifted], surface_depth[lifted], X_WC)
+    lifted = body_consistent(points, lifted)
+    points[~lifted] = np.nan
     status = STATUS_OK if lifted.any() else NO_VALID_DEPTH
     return Skeleton(pixels, points, np.where(lifted, confidence, 0.0), status)
 

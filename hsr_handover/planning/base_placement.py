@@ -4,7 +4,11 @@ The arm reaches forward in the vertical plane y = 0.078 m of the base frame (its
 offset), so for a hand pointing along the approach the base faces the approach and stands a
 reach `d` behind the palm. Each reach the arm's effectivity map holds at the palm's height is
 a candidate; those whose base (arm folded up) stays clear of the table, the objects and the
-person are tried, the reach nearest PREFERRED_REACH first. The arm's seed is eq. 11's walk on
+person are tried, the reach nearest PREFERRED_REACH first. A vertical approach leaves the
+base's heading free: it faces the object from where the robot stands, or, `turned`, stands
+round it (ROUND_TURNS_DEG), which reaches an object deep in a table from the table's nearer
+side (the staggered layout's trial 11 of seed 1: a box 35 cm in from the near edge and 8 cm
+from the side, out of reach from the near side). The arm's seed is eq. 11's walk on
 the map for the palm's position; the map knows positions only, so the hand's orientation is
 then the grasp's: no roll, the wrist flexed to the approach's pitch, the wrist rolled to the
 closing axis.
@@ -28,6 +32,10 @@ REACHES = np.arange(0.30, 0.66, 0.025)  # m, palm ahead of the base centre, the 
 PREFERRED_REACH = 0.47  # m: the arm about level, far from its limits
 BASE_CLEARANCE = 0.04  # m the folded-up robot keeps from every obstacle where it stands
 MAX_CANDIDATES = 4
+ROUND_TURNS_DEG = (90.0, -90.0, 45.0, -45.0, 135.0, -135.0, 180.0)
+"""Headings a turned base tries for a vertical approach, from facing the object as it does
+from where the robot stands: a table's sides first."""
+VERTICAL = 0.3  # an approach whose horizontal part is shorter than this is vertical
 
 
 @dataclasses.dataclass(frozen=True)
@@ -41,11 +49,16 @@ class BasePlacement:
     clearance: float
 
 
-def base_yaw(approach: np.ndarray, toward: np.ndarray) -> float:
+def base_yaws(approach: np.ndarray, toward: np.ndarray, turned: bool = False) -> list[float]:
     """The base faces a horizontal approach; for a vertical one, the object from `toward`
-    (the vector from the robot to the object)."""
-    horizontal = approach[:2] if np.hypot(*approach[:2]) > 0.3 else toward[:2]
-    return math.atan2(horizontal[1], horizontal[0])
+    (the vector from the robot to the object), or, `turned`, from round it. A turned base for
+    a horizontal approach has no heading to try."""
+    vertical = np.hypot(*approach[:2]) <= VERTICAL
+    horizontal = toward[:2] if vertical else approach[:2]
+    yaw = math.atan2(horizontal[1], horizontal[0])
+    if not turned:
+        return [yaw]
+    return [yaw + math.radians(turn) for turn in ROUND_TURNS_DEG] if vertical else []
 
 
 def base_pose(palm: np.ndarray, yaw: float, reach: float) -> np.ndarray:
@@ -78,32 +91,35 @@ def place_base(
     q_now: np.ndarray,
     ignore: tuple[str, ...] = (),
     most: int = MAX_CANDIDATES,
+    turned: bool = False,
 ) -> list[BasePlacement]:
     """At most `most` base poses and arm seeds for putting the pads' centre at `point` along
-    `approach`, best first, clear of all but `ignore` (an object held). With no map (the
-    unseeded baseline) there is one candidate at PREFERRED_REACH with the arm as it is now."""
+    `approach`, best first, clear of all but `ignore` (an object held); `turned`, those round
+    the object a vertical approach allows (`base_yaws`), none for a horizontal one. With no
+    map (the unseeded baseline) there is one candidate per heading at PREFERRED_REACH with the
+    arm as it is now."""
     palm = np.asarray(point, float) - PAD_OFFSET * np.asarray(approach, float)
     robot_xy = q_now[[scene.index(BASE_JOINTS[0]), scene.index(BASE_JOINTS[1])]]
-    yaw = base_yaw(approach, palm - np.array([*robot_xy, palm[2]]))
-    to_base = np.array([[math.cos(yaw), math.sin(yaw), 0], [-math.sin(yaw), math.cos(yaw), 0],
-                        [0, 0, 1]])  # fmt: skip
     reaches = [PREFERRED_REACH] if arm_map is None else sorted(
         REACHES, key=lambda reach: abs(reach - PREFERRED_REACH))  # fmt: skip
     placements = []
-    for reach in reaches:
-        local = np.array([reach, ARM_FLEX_ORIGIN[1], palm[2]])
-        if arm_map is not None and not arm_map.reachable(local[None])[0]:
-            continue
-        q = _at_base(scene, q_now, base_pose(palm, yaw, reach), yaw)
-        clearance = _folded_clearance(scene, q, ignore)
-        if clearance < BASE_CLEARANCE:
-            continue
-        if arm_map is not None:
-            arm = hand_posture(arm_map.seed(local[None])[0], to_base @ approach, to_base @ closing)
-            _set_arm(scene, q, arm)
-        placements.append(BasePlacement(q, float(reach), clearance))
-        if len(placements) == most:
-            break
+    for yaw in base_yaws(approach, palm - np.array([*robot_xy, palm[2]]), turned):
+        to_base = np.array([[math.cos(yaw), math.sin(yaw), 0],
+                            [-math.sin(yaw), math.cos(yaw), 0], [0, 0, 1]])  # fmt: skip
+        for reach in reaches:
+            local = np.array([reach, ARM_FLEX_ORIGIN[1], palm[2]])
+            if arm_map is not None and not arm_map.reachable(local[None])[0]:
+                continue
+            q = _at_base(scene, q_now, base_pose(palm, yaw, reach), yaw)
+            clearance = _folded_clearance(scene, q, ignore)
+            if clearance < BASE_CLEARANCE:
+                continue
+            if arm_map is not None:
+                seed = arm_map.seed(local[None])[0]
+                _set_arm(scene, q, hand_posture(seed, to_base @ approach, to_base @ closing))
+            placements.append(BasePlacement(q, float(reach), clearance))
+            if len(placements) == most:
+                return placements
     return placements
 
 

@@ -9,12 +9,13 @@ from __future__ import annotations
 
 import dataclasses
 import time
+from collections.abc import Iterator
 
 import numpy as np
 
 from hsr_handover.effectivity.arm_map import ArmEffectivity
 from hsr_handover.hsr import BASE_JOINTS
-from hsr_handover.planning.base_placement import place_base
+from hsr_handover.planning.base_placement import BasePlacement, place_base
 from hsr_handover.planning.grasps import Grasp, grasp_candidates
 from hsr_handover.planning.inverse_kinematics import PalmGoal, solve_palm_ik
 from hsr_handover.planning.planning_scene import PlanningScene
@@ -49,23 +50,33 @@ def grasp_configurations(
         return GraspConfigurations(False, f"{UNREACHABLE}: {label!r} is not in the scene")
     robot_xy = q_now[[scene.index(BASE_JOINTS[0]), scene.index(BASE_JOINTS[1])]]
     solves = 0
-    for grasp in grasp_candidates(shape, robot_xy):
-        for placement in place_base(scene, arm_map, grasp.point, grasp.approach,
-                                    grasp.closing, q_now):  # fmt: skip
-            goal = PalmGoal(grasp.point, grasp.approach, grasp.closing, grasp.opening)
-            at_grasp = solve_palm_ik(scene, goal, placement.q, ignore=(label,))
-            solves += 1
-            if not at_grasp.ok:
-                continue
-            before = dataclasses.replace(goal, point=grasp.pregrasp_point)
-            at_pregrasp = solve_palm_ik(scene, before, at_grasp.q)
-            held = dataclasses.replace(goal, point=grasp.lifted_point, opening=grasp.width)
-            lifted = solve_palm_ik(scene, held, at_grasp.q, ignore=(label,), base_fixed=True)
-            solves += 2
-            if at_pregrasp.ok and lifted.ok:
-                seconds = time.perf_counter() - start
-                return GraspConfigurations(True, "ok", grasp, at_pregrasp.q, at_grasp.q,
-                                           lifted.q, solves, seconds)  # fmt: skip
+    for grasp, placement in _placements(scene, arm_map, grasp_candidates(shape, robot_xy), q_now):
+        goal = PalmGoal(grasp.point, grasp.approach, grasp.closing, grasp.opening)
+        at_grasp = solve_palm_ik(scene, goal, placement.q, ignore=(label,))
+        solves += 1
+        if not at_grasp.ok:
+            continue
+        before = dataclasses.replace(goal, point=grasp.pregrasp_point)
+        at_pregrasp = solve_palm_ik(scene, before, at_grasp.q)
+        held = dataclasses.replace(goal, point=grasp.lifted_point, opening=grasp.width)
+        lifted = solve_palm_ik(scene, held, at_grasp.q, ignore=(label,), base_fixed=True)
+        solves += 2
+        if at_pregrasp.ok and lifted.ok:
+            seconds = time.perf_counter() - start
+            return GraspConfigurations(True, "ok", grasp, at_pregrasp.q, at_grasp.q,
+                                       lifted.q, solves, seconds)  # fmt: skip
     reason = f"{UNREACHABLE}: no grasp of {label!r} passed inverse kinematics"
     return GraspConfigurations(False, reason, ik_solves=solves,
                                seconds=time.perf_counter() - start)  # fmt: skip
+
+
+def _placements(
+    scene: PlanningScene, arm_map: ArmEffectivity | None, grasps: list[Grasp], q_now: np.ndarray
+) -> Iterator[tuple[Grasp, BasePlacement]]:
+    """Each grasp with each base placement for it, best first; then, as a last resort, the
+    grasps from above with the base turned round the object (`place_base`'s `turned`)."""
+    for turned in (False, True):
+        for grasp in grasps:
+            for placement in place_base(scene, arm_map, grasp.point, grasp.approach,
+                                        grasp.closing, q_now, turned=turned):  # fmt: skip
+                yield grasp, placement

@@ -14,9 +14,10 @@ from hsr_handover.effectivity.arm_map import load_or_build
 from hsr_handover.effectivity.mutual_area import ABOVE_TABLE
 from hsr_handover.effectivity.person_map import HumanArm, PersonEffectivity
 from hsr_handover.hsr import BASE_JOINTS, FINGER_PER_OPENING, GRIPPER_JOINT, PALM_FRAME
-from hsr_handover.perception.object_shapes import CYLINDER, ObjectShape
+from hsr_handover.perception.object_shapes import BOX, CYLINDER, ObjectShape
 from hsr_handover.perception.table_fit import TableEstimate
-from hsr_handover.planning import planner
+from hsr_handover.planning import base_placement, grasps, planner
+from hsr_handover.planning import grasp_configurations as configurations
 from hsr_handover.planning.grasp_configurations import UNREACHABLE, grasp_configurations
 from hsr_handover.planning.grasps import GRIP_CLEARANCE, LIFT_HEIGHT, PAD_OFFSET
 from hsr_handover.planning.handover_pose import NO_MUTUAL_AREA, plan_handover_pose
@@ -106,6 +107,30 @@ def test_a_cup_above_any_reach_is_unreachable_not_an_error(scene, arm_map):
     assert result.ik_solves == 0  # the map said so before any solve
     missing = grasp_configurations(scene, arm_map, "purple", _ready(scene))
     assert not missing.ok and "purple" in missing.reason
+
+
+def test_a_box_deep_in_a_high_table_is_taken_from_above_beside_the_table(arm_map, monkeypatch):
+    """The staggered layout's purple box: 35 cm in from the near edge of a table 80 cm high
+    and 8 cm from its side. From above, facing it from where the robot stands, no base pose
+    clear of the table reaches it; turned round it, the base stands beside the table."""
+    table = TableEstimate(0.80, np.array([0.88, -0.05]), np.array([0.55, 0.9]), 0.0, 6000)
+    box = ObjectShape("purple", BOX, np.array([0.95, 0.32]), np.array([0.07, 0.05]), 0.0,
+                      0.80, 0.10)  # fmt: skip
+    deep = PlanningScene(PerceivedScene(table, (box,)))
+    deep.set_positions({"base_x_joint": 0.0, "base_y_joint": -0.25, "base_yaw_joint": 0.25})
+    q_now = deep.positions()
+    from_above = lambda shape, robot_xy: [  # noqa: E731
+        grasp for grasp in grasps.grasp_candidates(shape, robot_xy) if grasp.kind == "top"
+    ]
+    monkeypatch.setattr(configurations, "grasp_candidates", from_above)
+    result = grasp_configurations(deep, arm_map, "purple", q_now)
+    assert result.ok, result.reason
+    base = result.q_grasp[[deep.index(joint) for joint in BASE_JOINTS[:2]]]
+    assert base[1] > 0.4 + 0.2  # beside the table's side, not at its near edge
+    monkeypatch.setattr(base_placement, "ROUND_TURNS_DEG", ())
+    facing = grasp_configurations(deep, arm_map, "purple", q_now)
+    assert not facing.ok and facing.reason.startswith(UNREACHABLE)
+    assert facing.ik_solves == 0  # no base pose clear of the table to try
 
 
 def test_inverse_kinematics_refuses_a_goal_inside_the_table(scene):

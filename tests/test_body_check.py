@@ -1,0 +1,58 @@
+"""Lifted keypoints no body could hold are dropped (`body_check`), and the lifting drops them."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from hsr_handover.perception.body_check import LIFT_SLACK_M, REACH_BETWEEN, body_consistent
+from hsr_handover.perception.skeleton import keypoint_index, lift_keypoints
+from tests.test_skeleton_sensor import CAMERA, KEYPOINTS, SURFACE_OFFSET, X_WC, _synthetic_depth
+
+ALL = np.ones(18, dtype=bool)
+L_SHOULDER, L_ELBOW, L_WRIST = (
+    keypoint_index(f"l_{name}") for name in ("shoulder", "elbow", "wrist")
+)
+
+
+def test_a_body_of_human_proportions_is_kept_whole():
+    np.testing.assert_array_equal(body_consistent(KEYPOINTS, ALL), ALL)
+    some = ALL.copy()
+    some[[0, 14, 15]] = False  # the face unseen: what is missing stays missing
+    np.testing.assert_array_equal(body_consistent(KEYPOINTS, some), some)
+
+
+def test_the_longest_reach_between_keypoints_runs_along_the_bones():
+    neck, r_shoulder = keypoint_index("neck"), keypoint_index("r_shoulder")
+    across = REACH_BETWEEN[r_shoulder, L_SHOULDER] - LIFT_SLACK_M
+    assert across == pytest.approx(2 * (REACH_BETWEEN[neck, L_SHOULDER] - LIFT_SLACK_M))
+    np.testing.assert_allclose(REACH_BETWEEN, REACH_BETWEEN.T)
+
+
+def test_a_shoulder_lifted_onto_something_in_front_is_dropped_alone():
+    points = KEYPOINTS.copy()
+    points[L_SHOULDER] += [0.0, 0.0, -0.75]  # on the robot's arm, 75 cm nearer the camera
+    kept = body_consistent(points, ALL)
+    assert not kept[L_SHOULDER] and kept.sum() == 17
+
+
+def test_two_keypoints_lifted_together_onto_an_occluder_are_dropped_together():
+    points = KEYPOINTS.copy()
+    points[[L_ELBOW, L_WRIST]] += [0.9, 0.0, -0.9]
+    kept = body_consistent(points, ALL)
+    assert not kept[L_ELBOW] and not kept[L_WRIST] and kept.sum() == 16
+
+
+def test_lifting_gives_no_point_for_a_keypoint_on_an_occluding_edge():
+    """The shoulder's pixel lies on the edge of something 80 cm in front of the person: the
+    near quarter of the depth window is the occluder's."""
+    depth = _synthetic_depth()
+    pixels, _ = CAMERA.project(KEYPOINTS, X_WC)
+    u, v = np.round(pixels[L_SHOULDER]).astype(int)
+    depth[v - 2 : v + 3, u - 2 : u] = 2.0 - SURFACE_OFFSET - 0.8
+    confidence = np.full(18, 0.9)
+    skeleton = lift_keypoints(pixels, confidence, depth, CAMERA, X_WC)
+    assert skeleton.confidence[L_SHOULDER] == 0 and np.isnan(skeleton.points[L_SHOULDER]).all()
+    np.testing.assert_array_equal(skeleton.pixels[L_SHOULDER], pixels[L_SHOULDER])
+    in_image = np.isfinite(skeleton.pixels).all(axis=1)
+    assert (skeleton.confidence[in_image] > 0).sum() == in_image.sum() - 1
