@@ -421,10 +421,11 @@ class HandoverCycle:
             self._follow(p)
 
     def _person_in_the_way(self, p: Percepts) -> bool:
-        """Whether the rest of the carry would bring the object held into the person as the
-        robot perceives them now: the way was planned clear of the person as they were, and an
-        arm can move into it since (the moved layout's trial 9 of seed 2: the arm that had
-        pointed came to rest where the carry ended, and the hands met)."""
+        """Whether the rest of the carry would bring the robot into the person as it perceives
+        them now: the way was planned clear of the person as they were, and an arm can move
+        into it since. (The moved layout's trial 9 of seed 2: the arm that had pointed came to
+        rest where the carry ended, and the hands met. This check found the way clear there:
+        the elbow hidden, `remember` kept the person as last seen whole, still pointing.)"""
         running = self._running
         if running is None or p.time - self._way_checked_at < WAY_CHECK_EVERY_S:
             return False

@@ -34,7 +34,8 @@ BASE_CLEARANCE = 0.04  # m the folded-up robot keeps from every obstacle where i
 MAX_CANDIDATES = 4
 ROUND_TURNS_DEG = (90.0, -90.0, 45.0, -45.0, 135.0, -135.0, 180.0)
 """Headings a turned base tries for a vertical approach, from facing the object as it does
-from where the robot stands: a table's sides first."""
+from where the robot stands: square to that first (beside a table the robot faces), then
+halfway, then from beyond the object."""
 VERTICAL = 0.3  # an approach whose horizontal part is shorter than this is vertical
 
 
