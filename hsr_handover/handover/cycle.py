@@ -126,11 +126,6 @@ fingers closed on nothing, to count it taken rather than dropped: a hand the rob
 hid from its camera drew it out (the reference run's trials 17 and 28: the wrist unseen for
 the whole presentation, the tug pointing down and away). Held out, it is 15-30 cm up."""
 RETRY_EVERY_S = 1.0  # s between those tries
-WAY_CHECK_S = 0.1
-"""s between the samples of the carry's rest checked against the person as perceived now."""
-WAY_CHECK_EVERY_S = 0.3
-"""s between those checks: each builds the planning scene anew from the percepts (0.1-0.2 s of
-wall time)."""
 FOLLOW_EVERY_S = 1.0  # s between tries to follow the hand (a hand out of reach fails each)
 WAIT_S = 12.0  # s the robot presents the object before it gives up (HandoverSim's 13 s limit)
 LOST_S = 2.0
@@ -207,10 +202,6 @@ class CyclePlanner(Protocol):
         """Back to the ready posture, with the object `held` or (None) without; `let_go` is the
         object just let go of (or missed), still between the fingers, to back away from."""
 
-    def person_clearance(self, positions: list[np.ndarray], held: object) -> float:
-        """The least distance (m) between the robot holding `held` and the person as last
-        perceived, over the configurations `positions`; negative where they would meet."""
-
 
 @dataclasses.dataclass
 class _Running:
@@ -260,7 +251,6 @@ class HandoverCycle:
         self._hand_rest: tuple[np.ndarray, float] | None = None  # (where, since when) presenting
         self._held_width = math.inf  # the opening closed on the object
         self._followed_at = -math.inf  # when it last tried to follow the hand
-        self._way_checked_at = -math.inf  # when it last checked the carry's way was clear
         self._object_start: np.ndarray | None = None
         self._emptied_at: float | None = None  # when the fingers closed on nothing, presenting
         self._after_retreat: tuple[Phase, Failure | None, str] = (Phase.DONE, None, "")
@@ -369,11 +359,7 @@ class HandoverCycle:
             self._queue = list(planned.motions)
 
     def _carry(self, p: Percepts) -> None:
-        if self._dropped(p):
-            return
-        if self._person_in_the_way(p):
-            self._hold_still(p)  # and present here: the person has come this far
-        if self._moving(p.time):
+        if self._dropped(p) or self._moving(p.time):
             return
         self._enter(Phase.PRESENT, p.time)
         self._seen_at = p.time
@@ -419,20 +405,6 @@ class HandoverCycle:
             return
         if p.time - self._followed_at > FOLLOW_EVERY_S and not self._moving(p.time):
             self._follow(p)
-
-    def _person_in_the_way(self, p: Percepts) -> bool:
-        """Whether the rest of the carry would bring the robot into the person as it perceives
-        them now: the way was planned clear of the person as they were, and an arm can move
-        into it since. (The moved layout's trial 9 of seed 2: the arm that had pointed came to
-        rest where the carry ended, and the hands met. This check found the way clear there:
-        the elbow hidden, `remember` kept the person as last seen whole, still pointing.)"""
-        running = self._running
-        if running is None or p.time - self._way_checked_at < WAY_CHECK_EVERY_S:
-            return False
-        self._way_checked_at = p.time
-        times = np.arange(p.time - running.start, running.motion.duration, WAY_CHECK_S)
-        rest = [running.motion.state(float(time))[0] for time in times]
-        return bool(rest) and self._planner.person_clearance(rest, self._held) < 0.0
 
     def _note_hand_rest(self, p: Percepts) -> None:
         """Where the hand has rested, and since when: a hand first seen on its way out (the

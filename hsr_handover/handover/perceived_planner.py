@@ -5,7 +5,6 @@ seeded by the arm's effectivity map; the person's reach comes from the perceived
 from __future__ import annotations
 
 import dataclasses
-import math
 import time
 
 import numpy as np
@@ -30,7 +29,7 @@ from hsr_handover.planning.planner import (
     plan_handover,
     plan_retreat,
 )
-from hsr_handover.planning.planning_scene import PERSON, PlanningScene
+from hsr_handover.planning.planning_scene import PlanningScene
 from hsr_handover.planning.retarget import Retargeting, retarget
 from hsr_handover.planning.timing import TimedPath, joint_limits
 from hsr_handover.planning.trajectory import COLLISION_BOUND
@@ -215,16 +214,6 @@ class PerceivedPlanner:
         if clearance < COLLISION_BOUND - DIP_ALLOWANCE:
             return None, f"the way to the hand comes {clearance:.3f} m near"
         return RetargetedMotion(motion), "ok"
-
-    def person_clearance(self, positions: list[np.ndarray], held: Held | None) -> float:
-        """The least signed distance (m) between the HSR holding `held` and the person's
-        perceived capsules over `positions`, in the planning scene the plans keep clear by
-        COLLISION_BOUND; infinite with no person perceived within NEAR."""
-        if not self._percepts[0].person or not positions:
-            return math.inf
-        scene = self._planning()
-        with holding(scene, held, positions[0]):
-            return min(scene.clearances_at(q).get(PERSON, math.inf) for q in positions)
 
     def retreat(
         self, q: np.ndarray, held: Held | None, let_go: Held | None = None

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import copy
 import dataclasses
-import math
 
 import numpy as np
 import pytest
@@ -27,7 +26,6 @@ from hsr_handover.handover.cycle import (
     TAKEN_S,
     TUG,
     WAIT_S,
-    WAY_CHECK_EVERY_S,
     Failure,
     HandoverCycle,
     Percepts,
@@ -57,7 +55,6 @@ class Planner:
 
     grasp_ok: bool = True
     grasp_failures: int = 0  # grasps that find no way before one does
-    person_at: float = math.inf  # the person perceived where the first joint passes this
     asked: list = dataclasses.field(default_factory=list)
 
     def grasp(self, label, q):
@@ -79,9 +76,6 @@ class Planner:
     def retreat(self, q, held, let_go=None):
         self.asked.append(("retreat", held))
         return PlannedMotions(True, "ok", (("retreat", Line(q, np.zeros_like(q))),), 0.1)
-
-    def person_clearance(self, positions, held):
-        return min(self.person_at - q[0] for q in positions)
 
 
 class World:
@@ -245,38 +239,6 @@ def test_an_object_that_slips_out_during_the_carry_is_dropped():
     world.opening = 0.002
     record = world.until(Phase.FAILED)
     assert record.failure is Failure.DROPPED
-
-
-def test_a_person_who_moves_into_the_carrys_way_is_presented_to_where_the_robot_stands():
-    """The carry was planned clear of the person as they were; an arm that comes to rest on
-    its way stops it there, and the robot presents from where it stands."""
-    world = _closed_on(0.06)
-    world.until(Phase.LIFT)
-    world.seen = OBJECT + [0, 0, 0.08]
-    world.until(Phase.CARRY)
-    start = world.q[0]
-    world.tick(0.5)  # a quarter of the 2 s carry: the first joint a quarter of the way
-    assert world.cycle.cycle.phase is Phase.CARRY
-    world.planner.person_at = start + 0.8
-    record = world.until(Phase.PRESENT, limit=WAY_CHECK_EVERY_S + TICK)  # at the next check
-    stopped = world.q[0]
-    assert start + 0.25 <= stopped <= start + 0.25 + (WAY_CHECK_EVERY_S + TICK) / 2 + 1e-9
-    assert record.phase_times["present"] - record.phase_times["carry"] < 1.0
-    world.tick(1.0)
-    assert world.q[0] == stopped  # it stands, and no other plan was asked for
-    assert [ask[0] for ask in world.planner.asked] == ["grasp", "carry"]
-
-
-def test_a_person_clear_of_the_carrys_rest_lets_it_run_to_its_end():
-    world = _closed_on(0.06)
-    world.planner.person_at = world.q[0] + 3 + 1 + 0.01  # beyond the lift's end and the carry's
-    world.until(Phase.LIFT)
-    world.seen = OBJECT + [0, 0, 0.08]
-    world.until(Phase.CARRY)
-    start = world.q[0]
-    record = world.until(Phase.PRESENT)
-    assert world.q[0] == pytest.approx(start + 1)
-    assert record.phase_times["present"] - record.phase_times["carry"] >= 2.0
 
 
 def test_no_hand_in_time_fails_by_timeout_and_the_robot_keeps_the_object():

@@ -68,21 +68,3 @@ def test_a_hand_whose_forearm_covers_the_aim_gets_the_object_beside_it():
     palm = scene_planner.palm(end)
     assert np.linalg.norm(palm - aim) < 0.2  # beside the hand, not into it
     assert forearm.distance(palm)[0] > 0.05
-
-
-def test_the_room_to_the_person_is_measured_from_the_robot_to_the_perceived_capsules():
-    scene_planner = PerceivedPlanner(load_or_build()[0])
-    q = _arm_out(scene_planner)
-    scene_planner.perceive(PerceivedScene(None), None)
-    assert scene_planner.person_clearance([q], None) == np.inf  # no person perceived
-    pads = scene_planner.palm(q)
-    forearm = Capsule(pads + [0.3, -0.1, 0.0], pads + [0.3, 0.1, 0.0], 0.05)
-    scene_planner.perceive(PerceivedScene(None, (), (forearm,)), None)
-    room = scene_planner.person_clearance([q], None)
-    assert 0.1 < room < 0.3 - 0.05  # the fingertips reach past the pads
-    nearer = q.copy()
-    nearer[scene_planner.robot.index("base_x_joint")] += 0.2
-    assert scene_planner.person_clearance([q, nearer], None) == pytest.approx(room - 0.2, abs=0.01)
-    into = q.copy()
-    into[scene_planner.robot.index("base_x_joint")] += 0.3
-    assert scene_planner.person_clearance([q, into], None) < 0.0
