@@ -75,20 +75,23 @@ def _view(plan: Plan, motions, palm, person: PersonEffectivity | None) -> PlanVi
 
 def remember(last: PerceivedScene | None, scene: PerceivedScene) -> PerceivedScene:
     """The `scene` now, with what the camera has turned away from as it was `last` seen: the
-    table, objects out of view, an object that has not moved as whole as it was seen, and the
-    person unless seen now as whole as then (things do not vanish, or shrink, or people lose
-    limbs, when something passes in front of them or the robot looks at its hand)."""
+    table, objects out of view, an object that has not moved as whole as it was seen, and each
+    part of the person not seen now (things do not vanish, or shrink, or people lose limbs,
+    when something passes in front of them or the robot looks at its hand). A part seen now is
+    taken as seen now: while the whole person was kept until a view showed as many parts as the
+    last, a view that lacked a hip's bone kept the person pointing, and the carry was planned
+    into the arm that had come to rest on the table (the moved layout's trial 9 of seed 2)."""
     if last is None:
         return scene
-    whole = len(scene.person) >= len(last.person)
     then = {shape.label: shape for shape in last.objects}
     now = tuple(_fuller(shape, then.get(shape.label)) for shape in scene.objects)
     seen = {shape.label for shape in scene.objects}
+    parts = {capsule.part for capsule in scene.person}
     return dataclasses.replace(
         scene,
         table=scene.table if scene.table is not None else last.table,
         objects=(*now, *(shape for label, shape in then.items() if label not in seen)),
-        person=scene.person if whole else last.person,
+        person=(*scene.person, *(part for part in last.person if part.part not in parts)),
     )
 
 

@@ -5,7 +5,9 @@ A lifted keypoint lies on the body's surface that faces the camera, so each bone
 a limb's radius behind its keypoints, along the camera's line of sight; every capsule is then
 widened by a margin for the skeleton's error. COCO-18 has no hands: each forearm's capsule runs
 on past the wrist by a hand's length. What the camera cannot see (the back, the seat, the legs
-under the table) is a column from the floor to the neck.
+under the table) is a column from the floor to the neck. An elbow hidden while its shoulder and
+wrist are seen is put where an arm of the body's proportions would have it (`hidden_elbow`):
+without it the arm would be missing from the scene.
 """
 
 from __future__ import annotations
@@ -14,6 +16,7 @@ import dataclasses
 
 import numpy as np
 
+from hsr_handover.effectivity.person_map import perceived_arm
 from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.perception.object_shapes import ObjectShape
 from hsr_handover.perception.table_fit import TableEstimate
@@ -39,16 +42,21 @@ _BONES = {
     ("neck", "nose"): 0.1,
 }  # fmt: skip
 BONES = {(keypoint_index(a), keypoint_index(b)): radius for (a, b), radius in _BONES.items()}
+_BONE_NAMES = {(keypoint_index(a), keypoint_index(b)): f"{a}-{b}" for a, b in _BONES}
+BODY_PART = "body"  # the column for what the camera does not see of the person
 _WRISTS = (keypoint_index("r_wrist"), keypoint_index("l_wrist"))
+_ARM = ("shoulder", "elbow", "wrist")
 
 
 @dataclasses.dataclass(frozen=True)
 class Capsule:
-    """A segment from `start` to `end` (m, world) swept by a sphere of `radius` (m)."""
+    """A segment from `start` to `end` (m, world) swept by a sphere of `radius` (m), around
+    the `part` of the person it stands for (a bone, "neck-r_shoulder", or BODY_PART)."""
 
     start: np.ndarray
     end: np.ndarray
     radius: float
+    part: str = ""
 
     @property
     def length(self) -> float:
@@ -71,8 +79,14 @@ def person_capsules(
 ) -> tuple[Capsule, ...]:
     """Capsules around the bones of a lifted COCO-18 skeleton (18 x 3 points, 18 confidences)
     whose two keypoints were seen, seen from `camera_position` (3,)."""
-    points = np.asarray(points, dtype=float)
+    points = np.array(points, dtype=float)
     seen = (np.asarray(confidence) > 0) & np.isfinite(points).all(axis=1)
+    for side in ("r", "l"):
+        shoulder, elbow, wrist = (keypoint_index(f"{side}_{joint}") for joint in _ARM)
+        arm = perceived_arm(points, confidence, side)
+        if seen[shoulder] and seen[wrist] and not seen[elbow] and arm is not None:
+            points[elbow] = hidden_elbow(points[shoulder], points[wrist], arm.upper, arm.forearm)
+            seen[elbow] = True
     capsules = []
     for (a, b), radius in BONES.items():
         if not (seen[a] and seen[b]):
@@ -81,9 +95,34 @@ def person_capsules(
         if b in _WRISTS:
             forearm = end - start
             end = end + HAND_LENGTH * forearm / max(np.linalg.norm(forearm), 1e-9)
-        capsules.append(Capsule(start, end, radius + margin))
+        capsules.append(Capsule(start, end, radius + margin, _BONE_NAMES[a, b]))
     column = _body_column(points, seen, camera_position, margin)
     return tuple(capsules) + column
+
+
+def hidden_elbow(
+    shoulder: np.ndarray, wrist: np.ndarray, upper: float, forearm: float
+) -> np.ndarray:
+    """Where the elbow of an arm with segments `upper` and `forearm` (m) is, given its
+    `shoulder` and `wrist` (m, world): on the circle of elbows that join the two, at its lowest
+    point (an arm hangs from the shoulder); on the line between them, in proportion, if the
+    two lie as far apart as the arm is long or farther.
+
+    The moved layout's trial 9 of seed 2: the robot's arm hid the right elbow of a person whose
+    arm came to rest under the carry's end; without the elbow the live view lost the forearm,
+    the planner kept the arm still pointing as last seen whole, and the box touched the wrist.
+    """
+    axis = wrist - shoulder
+    span = float(np.linalg.norm(axis))
+    if span >= upper + forearm or span < 1e-9:
+        return shoulder + upper / (upper + forearm) * axis
+    along = np.clip((upper**2 - forearm**2 + span**2) / (2 * span), -upper, upper)
+    axis /= span
+    down = np.array([0.0, 0.0, -1.0])
+    down -= (down @ axis) * axis
+    if np.linalg.norm(down) < 1e-9:  # a vertical arm: its elbow on the line
+        return shoulder + along * axis
+    return shoulder + along * axis + np.sqrt(upper**2 - along**2) * down / np.linalg.norm(down)
 
 
 def _body_column(points, seen, camera_position, margin: float) -> tuple[Capsule, ...]:
@@ -98,7 +137,7 @@ def _body_column(points, seen, camera_position, margin: float) -> tuple[Capsule,
     radius = BODY_COLUMN_RADIUS + margin
     bottom = np.array([center[0], center[1], radius])
     top = np.array([center[0], center[1], max(points[neck][2], 2 * radius)])
-    return (Capsule(bottom, top, radius),)
+    return (Capsule(bottom, top, radius, BODY_PART),)
 
 
 def extend_past_view(table: TableEstimate, camera_xy: np.ndarray) -> TableEstimate:

@@ -17,8 +17,8 @@ def _cup(label: str, x: float) -> ObjectShape:
                        0.72, 0.1)  # fmt: skip
 
 
-def _capsules(count: int) -> tuple[Capsule, ...]:
-    return tuple(Capsule(np.array([1.7, 0.1 * k, 0.5]), np.array([1.7, 0.1 * k, 1.0]), 0.1)
+def _capsules(count: int, x: float = 1.7) -> tuple[Capsule, ...]:
+    return tuple(Capsule(np.array([x, 0.1 * k, 0.5]), np.array([x, 0.1 * k, 1.0]), 0.1, f"{k}")
                  for k in range(count))  # fmt: skip
 
 
@@ -28,13 +28,17 @@ def test_what_is_out_of_view_is_kept_as_last_seen():
     kept = remember(last, now)
     assert kept.table is TABLE
     assert {shape.label: shape.center[0] for shape in kept.objects} == {"red": 1.2, "blue": 0.9}
-    assert kept.person == last.person  # a partial view does not shrink the person
+    # A partial view does not shrink the person: the parts not seen are kept as last seen.
+    assert sorted(capsule.part for capsule in kept.person) == sorted(str(k) for k in range(9))
+    assert kept.person[:2] == now.person
 
 
-def test_a_whole_view_replaces_the_memory():
+def test_the_parts_seen_now_replace_their_memory_though_others_are_unseen():
     last = PerceivedScene(TABLE, (_cup("red", 0.8),), _capsules(9))
-    now = PerceivedScene(TABLE, (_cup("red", 0.8),), _capsules(9)[::-1])
-    assert remember(last, now).person == now.person
+    now = PerceivedScene(TABLE, (_cup("red", 0.8),), _capsules(8, x=1.5))  # an arm came down
+    kept = remember(last, now).person
+    assert len(kept) == 9
+    assert [capsule.start[0] for capsule in kept] == [1.5] * 8 + [1.7]
     assert remember(None, now) is now
 
 

@@ -20,6 +20,7 @@ from hsr_handover.planning.perceived_scene import (
     UNSEEN_EXTENSION,
     Capsule,
     extend_past_view,
+    hidden_elbow,
     person_capsules,
 )
 
@@ -111,6 +112,38 @@ def test_the_person_is_capsules_behind_the_seen_surface_with_a_hand_past_the_wri
     fingertips = np.array([1.5 - HAND_LENGTH + 0.02, -0.2, 1.35])
     assert forearm.distance(fingertips)[0] < 0  # the hand is covered
     assert person_capsules(points, np.zeros(NUM_KEYPOINTS), camera) == ()
+
+
+def test_a_hidden_elbow_hangs_below_the_line_from_shoulder_to_wrist():
+    shoulder, wrist = np.array([2.0, -0.2, 1.35]), np.array([1.6, -0.2, 1.0])
+    elbow = hidden_elbow(shoulder, wrist, 0.3, 0.25)
+    assert np.linalg.norm(elbow - shoulder) == pytest.approx(0.3)
+    assert np.linalg.norm(wrist - elbow) == pytest.approx(0.25)
+    assert elbow[1] == pytest.approx(-0.2)  # in the vertical plane through both
+    line_at_elbow = np.interp(elbow[0], [wrist[0], shoulder[0]], [wrist[2], shoulder[2]])
+    assert elbow[2] < line_at_elbow - 0.05
+    # Out of the arm's reach: straight, in proportion.
+    far = np.array([1.3, -0.2, 1.35])
+    np.testing.assert_allclose(
+        hidden_elbow(shoulder, far, 0.3, 0.25), [2.0 - 0.7 * 0.3 / 0.55, -0.2, 1.35]
+    )
+    # Straight down: the elbow on the line.
+    below = np.array([2.0, -0.2, 0.85])
+    np.testing.assert_allclose(hidden_elbow(shoulder, below, 0.3, 0.25)[:2], [2.0, -0.2])
+
+
+def test_an_arm_whose_elbow_is_hidden_keeps_its_capsules():
+    points, confidence = _skeleton()
+    camera = np.zeros(3)
+    seen_whole = person_capsules(points, confidence, camera)
+    confidence[keypoint_index("r_elbow")] = 0.0  # the robot's arm in front of it
+    hidden = person_capsules(points, confidence, camera)
+    assert len(hidden) == len(seen_whole)
+    hand = np.array([[1.5 - HAND_LENGTH + 0.03, -0.2, 1.35], [1.75, -0.2, 1.35]])
+    assert (np.min([capsule.distance(hand) for capsule in hidden], axis=0) < 0).all()
+    # Without both shoulders there are no proportions to go by: the arm stays unseen.
+    confidence[keypoint_index("l_shoulder")] = 0.0
+    assert len(person_capsules(points, confidence, camera)) == len(seen_whole) - 3
 
 
 def test_open_edges_run_on_unseen_but_never_under_the_robot():
