@@ -43,15 +43,29 @@ def test_two_keypoints_lifted_together_onto_an_occluder_are_dropped_together():
     assert not kept[L_ELBOW] and not kept[L_WRIST] and kept.sum() == 16
 
 
-def test_lifting_gives_no_point_for_a_keypoint_on_an_occluding_edge():
-    """The shoulder's pixel lies on the edge of something 80 cm in front of the person: the
-    near quarter of the depth window is the occluder's."""
+def _lifted_behind_occluder(columns: int):
+    """The left shoulder's depth window with `columns` of its 5 columns on something 80 cm in
+    front of the person, lifted."""
     depth = _synthetic_depth()
     pixels, _ = CAMERA.project(KEYPOINTS, X_WC)
     u, v = np.round(pixels[L_SHOULDER]).astype(int)
-    depth[v - 2 : v + 3, u - 2 : u] = 2.0 - SURFACE_OFFSET - 0.8
-    confidence = np.full(18, 0.9)
-    skeleton = lift_keypoints(pixels, confidence, depth, CAMERA, X_WC)
+    depth[v - 2 : v + 3, u - 2 : u - 2 + columns] = 2.0 - SURFACE_OFFSET - 0.8
+    return pixels, lift_keypoints(pixels, np.full(18, 0.9), depth, CAMERA, X_WC)
+
+
+def test_a_keypoint_on_an_occluding_edge_is_lifted_again_from_its_window_s_far_side():
+    """Two columns of five on the occluder: the near quarter is the occluder's, the far quarter
+    the shoulder's."""
+    _, skeleton = _lifted_behind_occluder(2)
+    assert skeleton.confidence[L_SHOULDER] > 0
+    np.testing.assert_allclose(
+        skeleton.points[L_SHOULDER], KEYPOINTS[L_SHOULDER], atol=SURFACE_OFFSET + 0.01
+    )
+
+
+def test_lifting_gives_no_point_for_a_keypoint_hidden_behind_an_occluder():
+    """Four columns of five on the occluder: neither quarter is the shoulder's."""
+    pixels, skeleton = _lifted_behind_occluder(4)
     assert skeleton.confidence[L_SHOULDER] == 0 and np.isnan(skeleton.points[L_SHOULDER]).all()
     np.testing.assert_array_equal(skeleton.pixels[L_SHOULDER], pixels[L_SHOULDER])
     in_image = np.isfinite(skeleton.pixels).all(axis=1)

@@ -56,6 +56,11 @@ BORDER_BAND_PX = 32.0
 # slips off its edge onto the table or the wall reads farther: the near quarter of the window is
 # the limb, where a median would take the background once half the window has slipped off.
 DEPTH_PERCENTILE = 25.0
+# The depth a keypoint the body check dropped is lifted with again: its window's far quarter.
+# A keypoint seen beside something nearer (a face beside the hand pointing past it, 60 cm in
+# front: the intent reference's trial 46) is lifted onto that by the near quarter; its own
+# surface is the farther part of the window.
+RELIFT_PERCENTILE = 75.0
 # Half-size of the depth window a keypoint is lifted from: the window survives a pixel
 # that slips off a limb's edge onto the background or a depth hole.
 DEPTH_WINDOW_HALF = 2
@@ -307,8 +312,10 @@ def detect_keypoints(
     return Detection(np.where(detected[:, None], pixels, np.nan), confidence)
 
 
-def window_depths(depth: np.ndarray, pixels: np.ndarray) -> np.ndarray:
-    """The DEPTH_PERCENTILE of the valid depths in the 5 x 5 window around each in-image pixel
+def window_depths(
+    depth: np.ndarray, pixels: np.ndarray, percentile: float = DEPTH_PERCENTILE
+) -> np.ndarray:
+    """The `percentile` of the valid depths in the 5 x 5 window around each in-image pixel
     (N, 2); NaN where the window holds no valid depth."""
     u, v = _pixel_indices(pixels)
     result = np.full(len(pixels), np.nan)
@@ -317,7 +324,7 @@ def window_depths(depth: np.ndarray, pixels: np.ndarray) -> np.ndarray:
         window = depth[max(row - h, 0) : row + h + 1, max(col - h, 0) : col + h + 1]
         values = window[valid_depth(window)]
         if values.size:
-            result[i] = np.percentile(values, DEPTH_PERCENTILE)
+            result[i] = np.percentile(values, percentile)
     return result
 
 
@@ -332,10 +339,11 @@ def lift_keypoints(
     (H, W) (m) of `camera` at pose `X_WC` (4 x 4), as the paper lifts OpenPose's keypoints
     with the Xtion's depth (3.2).
 
-    Each point is the body surface at the keypoint's pixel (a robust window median). A
-    keypoint without valid depth there, or lifted where no body could hold it with the others
-    (`body_consistent`: onto an occluding edge), keeps its pixel but gets confidence 0 and no
-    point.
+    Each point is the body surface at the keypoint's pixel (its window's near quarter). One
+    lifted where no body could hold it with the others (`body_consistent`: onto something in
+    front of it) is lifted again from its window's far quarter, and checked again with the
+    others. A keypoint without valid depth, or still where no body could hold it, keeps its
+    pixel but gets confidence 0 and no point.
     """
     depth = checked_depth(depth, camera)
     pixels = np.asarray(pixels, dtype=float)
@@ -350,7 +358,13 @@ def lift_keypoints(
     points = _no_keypoints(3)
     lifted = np.isfinite(surface_depth)
     points[lifted] = camera.deproject(pixels[lifted], surface_depth[lifted], X_WC)
-    lifted = body_consistent(points, lifted)
+    kept = body_consistent(points, lifted)
+    again = lifted & ~kept
+    if again.any():
+        far = window_depths(depth, pixels[again], RELIFT_PERCENTILE)
+        points[again] = camera.deproject(pixels[again], far, X_WC)
+        kept = body_consistent(points, kept | (again & np.isfinite(points).all(axis=1)))
+    lifted = kept
     points[~lifted] = np.nan
     status = STATUS_OK if lifted.any() else NO_VALID_DEPTH
     return Skeleton(pixels, points, np.where(lifted, confidence, 0.0), status)

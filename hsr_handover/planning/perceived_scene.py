@@ -108,9 +108,8 @@ def hidden_elbow(
     point (an arm hangs from the shoulder); on the line between them, in proportion, if the
     two lie as far apart as the arm is long or farther.
 
-    The moved layout's trial 9 of seed 2: the robot's arm hid the right elbow of a person whose
-    arm came to rest under the carry's end; without the elbow the live view lost the forearm,
-    the planner kept the arm still pointing as last seen whole, and the box touched the wrist.
+    Without it an arm whose elbow the robot's own arm hides would drop out of the live view and
+    be planned around where it was last seen whole (`remember`), though it has moved since.
     """
     axis = wrist - shoulder
     span = float(np.linalg.norm(axis))
