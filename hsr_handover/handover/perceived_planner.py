@@ -91,7 +91,7 @@ def remember(last: PerceivedScene | None, scene: PerceivedScene) -> PerceivedSce
         scene,
         table=scene.table if scene.table is not None else last.table,
         objects=(*now, *(shape for label, shape in then.items() if label not in seen)),
-        person=(*scene.person, *(part for part in last.person if part.part not in parts)),
+        person=(*scene.person, *(capsule for capsule in last.person if capsule.part not in parts)),
     )
 
 

@@ -363,7 +363,7 @@ def lift_keypoints(
     if again.any():
         far = window_depths(depth, pixels[again], RELIFT_PERCENTILE)
         points[again] = camera.deproject(pixels[again], far, X_WC)
-        kept = body_consistent(points, kept | (again & np.isfinite(points).all(axis=1)))
+        kept = body_consistent(points, kept | again)  # the same windows: valid depths
     lifted = kept
     points[~lifted] = np.nan
     status = STATUS_OK if lifted.any() else NO_VALID_DEPTH

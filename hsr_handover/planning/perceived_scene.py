@@ -83,8 +83,10 @@ def person_capsules(
     seen = (np.asarray(confidence) > 0) & np.isfinite(points).all(axis=1)
     for side in ("r", "l"):
         shoulder, elbow, wrist = (keypoint_index(f"{side}_{joint}") for joint in _ARM)
-        arm = perceived_arm(points, confidence, side)
-        if seen[shoulder] and seen[wrist] and not seen[elbow] and arm is not None:
+        if not (seen[shoulder] and seen[wrist]) or seen[elbow]:
+            continue
+        arm = perceived_arm(points, confidence, side)  # None without both shoulders
+        if arm is not None:
             points[elbow] = hidden_elbow(points[shoulder], points[wrist], arm.upper, arm.forearm)
             seen[elbow] = True
     capsules = []
