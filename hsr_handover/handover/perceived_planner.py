@@ -48,8 +48,7 @@ class TimedMotion:
         self._trajectory = timed.trajectory
 
     def state(self, time: float) -> tuple[np.ndarray, np.ndarray]:
-        at = np.array([time])
-        return self._trajectory.values(at)[0], self._trajectory.values(at, 1)[0]
+        return self._trajectory.state(time)
 
 
 class RetargetedMotion:

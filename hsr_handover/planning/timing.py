@@ -78,6 +78,11 @@ class _DrakePath(AbstractGeometricPath):
         self._derivatives = [path, path.MakeDerivative(1), path.MakeDerivative(2)]
         self._interval = np.array([path.start_time(), path.end_time()])
 
+    def point(self, s: float) -> tuple[np.ndarray, np.ndarray]:
+        """The path's value and tangent (its rows) at one path position `s`."""
+        value, tangent = self._derivatives[0].value(s), self._derivatives[1].value(s)
+        return value[self._rows, 0], tangent[self._rows, 0]
+
     def __call__(self, path_positions, order: int = 0) -> np.ndarray:
         scalar = np.isscalar(path_positions)
         s = np.clip(np.atleast_1d(np.asarray(path_positions, dtype=float)), *self._interval)
@@ -120,6 +125,7 @@ class TimedTrajectory:
         )
         self._stretch = stretch
         self._duration = 0.0 if grid is None else stretch * float(self._timing.duration)
+        self._pieces = None if grid is None else _ConstAccelPieces(grid, path_speeds)
 
     @property
     def duration(self) -> float:
@@ -144,6 +150,39 @@ class TimedTrajectory:
             return held if order == 0 else np.zeros_like(held)
         scaled = np.atleast_2d(self._timing(times / self._stretch, order))
         return scaled / self._stretch**order
+
+    def state(self, time: float) -> tuple[np.ndarray, np.ndarray]:
+        """Positions and velocities (nq,) at one `time` s: the same values as `values` gives
+        for orders 0 and 1, found in one pass (the robot's command, every plant step)."""
+        time = min(max(float(time), 0.0), self._duration)
+        if self._pieces is None:
+            return self.values(np.array([time]))[0], np.zeros(self._path.dof)
+        s, speed = self._pieces.at(time / self._stretch)
+        s = min(max(s, self._path.path_interval[0]), self._path.path_interval[1])
+        position, tangent = self._path.point(s)
+        return position, tangent * (speed / self._stretch)
+
+
+class _ConstAccelPieces:
+    """toppra's constant-acceleration timing s(t) (`ParametrizeConstAccel`: the same grid
+    times and accelerations, by the same arithmetic) for one time at a time, without the
+    array round trips that made the per-step command cost more than the robot's planning."""
+
+    def __init__(self, grid: np.ndarray, path_speeds: np.ndarray):
+        grid, speeds = np.asarray(grid, dtype=float), np.asarray(path_speeds, dtype=float)
+        steps = np.diff(grid)
+        self._grid, self._speeds = grid.tolist(), speeds.tolist()
+        self._accelerations = (0.5 * np.diff(speeds**2) / steps).tolist()
+        self._times = np.concatenate([[0.0], np.cumsum(2 * steps / (speeds[:-1] + speeds[1:]))])
+
+    def at(self, time: float) -> tuple[float, float]:
+        """The path position s and speed ds/dt at `time` s."""
+        index = min(int(np.searchsorted(self._times, time, side="right")) - 1,
+                    len(self._accelerations) - 1)  # fmt: skip
+        elapsed = time - float(self._times[index])
+        acceleration, speed = self._accelerations[index], self._speeds[index]
+        position = self._grid[index] + elapsed * speed + 0.5 * elapsed**2 * acceleration
+        return position, speed + elapsed * acceleration
 
 
 def sample_times(duration: float, step: float) -> np.ndarray:

@@ -131,6 +131,24 @@ def test_a_curved_path_keeps_its_limits_between_toppras_grid_points(plant, limit
     np.testing.assert_allclose(timed.velocities([0.0, timed.duration]), 0, atol=1e-9)
 
 
+def test_the_per_step_state_is_the_trajectorys_positions_and_velocities(plant, limits):
+    """`state(t)`, the robot's command every plant step, gives what `values` gives, on a
+    curved path whose timing is stretched, before its start and after its end too."""
+    rng = np.random.default_rng(3)
+    waypoints = rng.uniform(-0.8, 0.8, size=(4, plant.num_positions()))
+    control = np.array([np.interp(np.linspace(0, 3, 20), np.arange(4), w) for w in waypoints.T])
+    trajectory = time_path(BsplineTrajectory(BsplineBasis(4, 20), control), limits).trajectory
+    assert trajectory._stretch > 1.0  # the case where speeds are scaled back
+    for time in [-1.0, 0.0, *rng.uniform(0, trajectory.duration, 50), trajectory.duration, 99]:
+        position, velocity = trajectory.state(time)
+        np.testing.assert_allclose(position, trajectory.values([time])[0], atol=1e-12)
+        np.testing.assert_allclose(velocity, trajectory.values([time], 1)[0], atol=1e-12)
+    held = time_path(_line(control[:, 0], control[:, 0]), limits).trajectory
+    position, velocity = held.state(0.5)
+    np.testing.assert_allclose(position, control[:, 0], atol=1e-12)
+    np.testing.assert_array_equal(velocity, 0.0)
+
+
 def test_held_joints_need_no_usable_limits_but_moving_ones_do(plant, limits):
     path = _line(np.zeros(plant.num_positions()), configuration(plant, {"arm_flex_joint": -1}))
     flex = plant.GetJointByName("arm_flex_joint").position_start()
