@@ -43,13 +43,13 @@ def test_two_keypoints_lifted_together_onto_an_occluder_are_dropped_together():
     assert not kept[L_ELBOW] and not kept[L_WRIST] and kept.sum() == 16
 
 
-def _lifted_behind_occluder(columns: int):
-    """The left shoulder's depth window with `columns` of its 5 columns on something 80 cm in
+def _lifted_behind_occluder(columns: int, keypoint: int = L_SHOULDER):
+    """The `keypoint`'s depth window with `columns` of its 5 columns on something 80 cm in
     front of the person, lifted."""
     depth = _synthetic_depth()
     pixels, _ = CAMERA.project(KEYPOINTS, X_WC)
-    u, v = np.round(pixels[L_SHOULDER]).astype(int)
-    depth[v - 2 : v + 3, u - 2 : u - 2 + columns] = 2.0 - SURFACE_OFFSET - 0.8
+    u, v = np.round(pixels[keypoint]).astype(int)
+    depth[v - 2 : v + 3, u - 2 : u - 2 + columns] = KEYPOINTS[keypoint, 2] - SURFACE_OFFSET - 0.8
     return pixels, lift_keypoints(pixels, np.full(18, 0.9), depth, CAMERA, X_WC)
 
 
@@ -64,9 +64,20 @@ def test_a_keypoint_on_an_occluding_edge_is_lifted_again_from_its_window_s_far_s
 
 
 def test_lifting_gives_no_point_for_a_keypoint_hidden_behind_an_occluder():
-    """Four columns of five on the occluder: neither quarter is the shoulder's."""
-    pixels, skeleton = _lifted_behind_occluder(4)
-    assert skeleton.confidence[L_SHOULDER] == 0 and np.isnan(skeleton.points[L_SHOULDER]).all()
-    np.testing.assert_array_equal(skeleton.pixels[L_SHOULDER], pixels[L_SHOULDER])
+    """Four columns of five on the occluder: neither quarter is the elbow's."""
+    pixels, skeleton = _lifted_behind_occluder(4, L_ELBOW)
+    assert skeleton.confidence[L_ELBOW] == 0 and np.isnan(skeleton.points[L_ELBOW]).all()
+    np.testing.assert_array_equal(skeleton.pixels[L_ELBOW], pixels[L_ELBOW])
     in_image = np.isfinite(skeleton.pixels).all(axis=1)
     assert (skeleton.confidence[in_image] > 0).sum() == in_image.sum() - 1
+
+
+def test_a_shoulder_hidden_behind_an_occluder_takes_its_depth_from_the_torso():
+    """Four columns of five on the occluder: the shoulder is put at the other shoulder's depth
+    mirrored through the neck's, along its own pixel's ray."""
+    pixels, skeleton = _lifted_behind_occluder(4)
+    assert skeleton.confidence[L_SHOULDER] > 0
+    np.testing.assert_array_equal(skeleton.pixels[L_SHOULDER], pixels[L_SHOULDER])
+    np.testing.assert_allclose(
+        skeleton.points[L_SHOULDER], KEYPOINTS[L_SHOULDER], atol=SURFACE_OFFSET + 0.01
+    )

@@ -34,6 +34,7 @@ from hsr_handover.perception.coco18 import (
     keypoint_index,
 )
 from hsr_handover.perception.pinhole import PinholeCamera, valid_depth
+from hsr_handover.perception.torso_depth import torso_shoulder_depths
 
 _FACE_INDICES = np.array([COCO18_KEYPOINTS.index(name) for name in FACE_KEYPOINTS])
 
@@ -342,8 +343,9 @@ def lift_keypoints(
     Each point is the body surface at the keypoint's pixel (its window's near quarter). One
     lifted where no body could hold it with the others (`body_consistent`: onto something in
     front of it) is lifted again from its window's far quarter, and checked again with the
-    others. A keypoint without valid depth, or still where no body could hold it, keeps its
-    pixel but gets confidence 0 and no point.
+    others. A shoulder hidden behind its arm takes its depth from the torso
+    (`torso_shoulder_depths`). A keypoint without valid depth, or still where no body could
+    hold it, keeps its pixel but gets confidence 0 and no point.
     """
     depth = checked_depth(depth, camera)
     pixels = np.asarray(pixels, dtype=float)
@@ -361,10 +363,14 @@ def lift_keypoints(
     kept = body_consistent(points, lifted)
     again = lifted & ~kept
     if again.any():
-        far = window_depths(depth, pixels[again], RELIFT_PERCENTILE)
-        points[again] = camera.deproject(pixels[again], far, X_WC)
+        surface_depth[again] = window_depths(depth, pixels[again], RELIFT_PERCENTILE)
+        points[again] = camera.deproject(pixels[again], surface_depth[again], X_WC)
         kept = body_consistent(points, kept | again)  # the same windows: valid depths
-    lifted = kept
+    kept_depth = np.where(kept, surface_depth, np.nan)
+    torso_depth = torso_shoulder_depths(kept_depth, detected)
+    mended = np.isfinite(torso_depth) & (torso_depth != kept_depth)
+    points[mended] = camera.deproject(pixels[mended], torso_depth[mended], X_WC)
+    lifted = kept | mended
     points[~lifted] = np.nan
     status = STATUS_OK if lifted.any() else NO_VALID_DEPTH
     return Skeleton(pixels, points, np.where(lifted, confidence, 0.0), status)
