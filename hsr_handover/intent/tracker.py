@@ -211,28 +211,50 @@ def bearing_errors_deg(ray: Ray, points: np.ndarray) -> np.ndarray:
     return np.array(errors)
 
 
+def shoulder_point(points: np.ndarray, confidence: np.ndarray, arm: str) -> np.ndarray | None:
+    """The `arm`'s shoulder (m, world): as seen, or, hidden, the other shoulder mirrored through
+    the neck (None without those). An arm pointed at the camera hides its own shoulder: in
+    the intent run at seed 1, trial 4's arm was straight and its shoulder unseen for 1.1 s."""
+    shoulder = ARMS[arm][0]
+    if _seen(points, confidence, (shoulder,)):
+        return points[shoulder]
+    other = ARMS["left" if arm == "right" else "right"][0]
+    if _seen(points, confidence, (NECK, other)):
+        return 2.0 * points[NECK] - points[other]
+    return None
+
+
 def pointing_rays(
     points: np.ndarray, confidence: np.ndarray, params: IntentParams
 ) -> list[tuple[str, float, Ray]]:
-    """(arm, elbow angle, ray) for each arm seen straight enough to point (eq. 16)."""
+    """(arm, elbow angle, ray) for each arm seen straight enough to point (eq. 16); a hidden
+    shoulder is taken from the torso (`shoulder_point`)."""
     rays = []
-    for arm, (shoulder, elbow, wrist) in ARMS.items():
-        if not _seen(points, confidence, (shoulder, elbow, wrist)):
+    for arm, (_, elbow, wrist) in ARMS.items():
+        shoulder = shoulder_point(points, confidence, arm)
+        if shoulder is None or not _seen(points, confidence, (elbow, wrist)):
             continue
-        angle = elbow_angle_deg(points[shoulder], points[elbow], points[wrist])
+        angle = elbow_angle_deg(shoulder, points[elbow], points[wrist])
         if not angle >= params.straight_arm_deg:
             continue
-        start = {"shoulder_wrist": shoulder, "elbow_wrist": elbow}.get(params.pointing_ray)
-        if start is not None:
-            origin = points[start]
-        elif _seen(points, confidence, (R_EYE, L_EYE)):
-            origin = (points[R_EYE] + points[L_EYE]) / 2
-        else:
-            continue
-        ray = Ray.through(origin, points[wrist])
+        origin = _ray_origin(points, confidence, params.pointing_ray, shoulder, elbow)
+        ray = None if origin is None else Ray.through(origin, points[wrist])
         if ray is not None:
             rays.append((arm, angle, ray))
     return rays
+
+
+def _ray_origin(
+    points: np.ndarray, confidence: np.ndarray, kind: str, shoulder: np.ndarray, elbow: int
+) -> np.ndarray | None:
+    """Where the pointing ray of kind `kind` (POINTING_RAYS) starts; None without the eyes."""
+    if kind == "shoulder_wrist":
+        return shoulder
+    if kind == "elbow_wrist":
+        return points[elbow]
+    if _seen(points, confidence, (R_EYE, L_EYE)):
+        return (points[R_EYE] + points[L_EYE]) / 2
+    return None
 
 
 @dataclasses.dataclass(frozen=True)

@@ -94,6 +94,20 @@ def test_the_ray_kinds_start_where_they_say():
     assert elbow.candidate == label
 
 
+@pytest.mark.parametrize("arm", ["right", "left"])
+def test_an_arm_hiding_its_own_shoulder_points_from_the_torsos_mirror_of_the_other(arm):
+    label, center = CUPS[1]
+    points, confidence = keypoints(look_at=center, point_with=arm, point_at=center)
+    own, other = (keypoint_index(f"{side}_shoulder") for side in ("rl" if arm == "right" else "lr"))
+    points[keypoint_index("neck")] = (points[own] + points[other]) / 2  # OpenPose's neck
+    hidden = _without(confidence, f"{arm[0]}_shoulder")
+    judgement = judge_frame(points, hidden, CUPS, IntentParams())
+    assert (judgement.candidate, judgement.arm) == (label, arm)
+    np.testing.assert_allclose(judgement.pointing.origin, points[own])
+    no_torso = _without(hidden, "neck")
+    assert judge_frame(points, no_torso, CUPS, IntentParams()).status == NO_POINTING
+
+
 def test_frames_that_do_not_ask_say_why():
     _, center = CUPS[0]
     params = IntentParams()
