@@ -42,7 +42,7 @@ FAILURES = (
 )  # fmt: skip
 """A failed trial's class: the first thing that went wrong. HandoverSim counts contact with
 the person, drop and timeout; the rest are ours."""
-AFTER_CYCLE_S = 0.5
+TRIAL_AFTER_CYCLE_S = 0.5
 """s a trial runs on once the robot's cycle is over (the demo's run shows 2 s more): the
 handover was decided before the retreat, and an object put back has settled by then."""
 SUCCESS_HOLD_S = 0.1
@@ -63,7 +63,7 @@ def run_handover_trial(trial: HandoverTrial) -> dict:
     replay = replay_while_running(trial.replay_dir, trial.index)
     moved_back = sit_clear(trial.scenario)
     report = run_scenario(
-        trial.scenario, replay, monitor_factory=scorer, after_cycle_s=AFTER_CYCLE_S
+        trial.scenario, replay, monitor_factory=scorer, after_cycle_s=TRIAL_AFTER_CYCLE_S
     )
     names = {obj.color: obj.name for obj in trial.scenario.objects}
     row = judge(trial, report.cycle or Cycle(), scorers[0].score, report.person_holds, names)

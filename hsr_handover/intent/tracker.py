@@ -40,6 +40,7 @@ from hsr_handover.intent.rays import (
 )
 from hsr_handover.literature import STIEFELHAGEN_HEAD_FRACTION
 from hsr_handover.perception.coco18 import keypoint_index
+from hsr_handover.perception.torso_depth import mirrored_shoulder
 
 POINTING_RAYS = ("shoulder_wrist", "elbow_wrist", "eye_wrist")
 """Where the pointing ray starts (it always runs through the wrist): the shoulder, the elbow
@@ -220,7 +221,7 @@ def shoulder_point(points: np.ndarray, confidence: np.ndarray, arm: str) -> np.n
         return points[shoulder]
     other = ARMS["left" if arm == "right" else "right"][0]
     if _seen(points, confidence, (NECK, other)):
-        return 2.0 * points[NECK] - points[other]
+        return mirrored_shoulder(points[NECK], points[other])
     return None
 
 

@@ -28,6 +28,12 @@ _NECK = keypoint_index("neck")
 _SHOULDERS = (keypoint_index("r_shoulder"), keypoint_index("l_shoulder"))
 
 
+def mirrored_shoulder(neck, other_shoulder):
+    """The shoulder opposite `other_shoulder` through the `neck` (points, or depths along the
+    optical axis): OpenPose's neck lies halfway between the shoulders."""
+    return 2.0 * neck - other_shoulder
+
+
 def torso_shoulder_depths(depths: np.ndarray, detected: np.ndarray) -> np.ndarray:
     """(18,) the keypoints' depths along the optical axis (m; NaN: none), with a `detected`
     shoulder's depth replaced by the other's mirrored through the neck's when it has none or
@@ -35,7 +41,7 @@ def torso_shoulder_depths(depths: np.ndarray, detected: np.ndarray) -> np.ndarra
     depths = np.array(depths, dtype=float)
     neck = depths[_NECK]
     for shoulder, other in (_SHOULDERS, _SHOULDERS[::-1]):
-        mirrored = 2.0 * neck - depths[other]
+        mirrored = mirrored_shoulder(neck, depths[other])
         if not (detected[shoulder] and np.isfinite(mirrored) and mirrored > 0.0):
             continue
         own = depths[shoulder]

@@ -10,8 +10,9 @@ from pydrake.math import BsplineBasis
 from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import PrismaticJoint, SpatialInertia
 from pydrake.trajectories import BsplineTrajectory
+from toppra.parametrizer import ParametrizeConstAccel
 
-from hsr_handover.planning.timing import JointLimits, joint_limits, time_path
+from hsr_handover.planning.timing import JointLimits, _DrakePath, joint_limits, time_path
 from tests.planning.conftest import configuration
 
 STEP = 0.01  # s between the samples the limits are checked on
@@ -147,6 +148,22 @@ def test_the_per_step_state_is_the_trajectorys_positions_and_velocities(plant, l
     position, velocity = held.state(0.5)
     np.testing.assert_allclose(position, control[:, 0], atol=1e-12)
     np.testing.assert_array_equal(velocity, 0.0)
+
+
+def test_the_timing_is_toppras_constant_acceleration_parametrisation(plant, limits):
+    """Positions, velocities and accelerations as toppra's own `ParametrizeConstAccel` gives
+    them for the same grid and path speeds, the stretch applied."""
+    goal = configuration(plant, ARM_MOVE)
+    path = _line(np.zeros_like(goal), goal)
+    trajectory = time_path(path, limits).trajectory
+    geometric = _DrakePath(path, np.arange(path.rows()))
+    timing = trajectory._timing
+    toppra_timing = ParametrizeConstAccel(geometric, timing._grid, timing._speeds)
+    assert trajectory.duration == pytest.approx(trajectory._stretch * toppra_timing.duration)
+    times = np.linspace(0.0, trajectory.duration, 37)
+    for order in (0, 1, 2):
+        expected = toppra_timing(times / trajectory._stretch, order) / trajectory._stretch**order
+        np.testing.assert_allclose(trajectory.values(times, order), expected, atol=1e-10)
 
 
 def test_held_joints_need_no_usable_limits_but_moving_ones_do(plant, limits):
