@@ -20,12 +20,14 @@ from hsr_handover.systems.frame_timing import PROCESSING_DELAY_S
 @dataclasses.dataclass(frozen=True)
 class PerceivedFrame:
     """What the intent estimator was given for one camera frame: the capture time, the lifted
-    skeleton's points (18 x 3) and confidences, and the confirmed (label, centre) candidates."""
+    skeleton's points (18 x 3) and confidences, the confirmed (label, centre) candidates and
+    the chest's facing (3,; NaN: not seen)."""
 
     time: float
     points: np.ndarray
     confidence: np.ndarray
     candidates: tuple[tuple[str, np.ndarray], ...]
+    torso_forward: np.ndarray = dataclasses.field(default_factory=lambda: np.full(3, np.nan))
 
 
 class PerceptRecorder:
@@ -51,7 +53,13 @@ class PerceptRecorder:
             support = robot.GetOutputPort("detection_support").Eval(robot_context)
             candidates = tuple(confirmed_candidates(detections, support))
             self.frames.append(
-                PerceivedFrame(image_time, skeleton.points, skeleton.confidence, candidates)
+                PerceivedFrame(
+                    image_time,
+                    skeleton.points,
+                    skeleton.confidence,
+                    candidates,
+                    skeleton.torso_forward,
+                )  # fmt: skip
             )
         return EventStatus.Succeeded()
 
@@ -60,5 +68,7 @@ def replay_intent(frames: Sequence[PerceivedFrame], params: IntentParams) -> Int
     """The intent recogniser run offline over recorded frames: its state after the last."""
     tracker = IntentTracker(params)
     for frame in frames:
-        tracker.update(frame.time, frame.points, frame.confidence, frame.candidates)
+        tracker.update(
+            frame.time, frame.points, frame.confidence, frame.candidates, frame.torso_forward
+        )
     return tracker.state_

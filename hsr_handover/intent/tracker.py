@@ -61,6 +61,8 @@ TORSO_PAIRS = {
     "left": ((R_SHOULDER, NECK),),
 }
 UP = np.array([0.0, 0.0, 1.0])
+FACING_BIN_DEG = 5.0  # SteadyFacing's heading bins
+FACING_WINDOW_BINS = 3  # either side: a window of 35 degrees around the busiest bin
 
 NO_SKELETON = "no skeleton"
 NO_CANDIDATES = "no objects detected"
@@ -456,6 +458,38 @@ class IntentState:
         return RECOGNISED if self.target is not None else self.frame.status
 
 
+class SteadyFacing:
+    """The horizontal direction seen most often: votes in FACING_BIN_DEG bins of heading, and
+    the mean of the votes within FACING_WINDOW_BINS of the busiest window. A few frames read
+    wrong (a chest fitted on the arm in front of it) are outvoted, not averaged in. Adding
+    returns a new SteadyFacing (the tracker's copies share it)."""
+
+    BINS = int(360 / FACING_BIN_DEG)
+
+    def __init__(self, counts: np.ndarray | None = None, sums: np.ndarray | None = None):
+        self._counts = np.zeros(self.BINS) if counts is None else counts
+        self._sums = np.zeros((self.BINS, 2)) if sums is None else sums
+
+    def add(self, direction: np.ndarray) -> SteadyFacing:
+        heading = math.degrees(math.atan2(direction[1], direction[0]))
+        index = int((heading + 180.0) // FACING_BIN_DEG) % self.BINS
+        counts, sums = self._counts.copy(), self._sums.copy()
+        counts[index] += 1
+        sums[index] += np.asarray(direction[:2], dtype=float)
+        return SteadyFacing(counts, sums)
+
+    def direction(self) -> np.ndarray | None:
+        """The unit vector (x, y, 0) of the busiest window's mean; None before any vote."""
+        if not self._counts.any():
+            return None
+        offsets = range(-FACING_WINDOW_BINS, FACING_WINDOW_BINS + 1)
+        windows = sum(np.roll(self._counts, -offset) for offset in offsets)
+        peak = int(np.argmax(windows))
+        total = sum(self._sums[(peak + offset) % self.BINS] for offset in offsets)
+        length = float(np.linalg.norm(total))
+        return np.array([*(total / length), 0.0]) if length > 1e-9 else None
+
+
 class IntentTracker:
     """The dwell over frames: the first object asked for, with the face confirming it at the
     start and at the end, for `t_max` seconds, is the recognised target (latched)."""
@@ -464,26 +498,32 @@ class IntentTracker:
         self.params = IntentParams() if params is None else params
         self.state_ = IntentState()
         self._smoother = RaySmoother(self.params.smoothing_s, self.params.bent_gap_s)
-        self._forward_sum = np.zeros(3)
+        self._chest = SteadyFacing()
+        self._shoulders = SteadyFacing()
 
     def __deepcopy__(self, memo: dict) -> IntentTracker:
-        """The params and states are frozen and the forward sum is replaced, never changed in
+        """The params and states are frozen and the facings are replaced, never changed in
         place: only the smoother's histories need copying."""
         clone = copy.copy(self)
         clone._smoother = copy.deepcopy(self._smoother, memo)
         return clone
 
-    def _steady_forward(self, observation: Observation) -> Observation:
-        """A seated person turns the head, not the torso: the mean of the torso's directions
-        seen while no arm points (both shoulders in place) stands for it. Lifted shoulders
-        jitter by a few degrees a frame, and the estimated gaze inherits (head_gain - 1) of
-        the torso's error."""
+    def _steady_forward(self, observation: Observation, chest: np.ndarray | None) -> Observation:
+        """A person at the table turns the head, not the torso: the chest's facing seen most
+        often stands for the torso's direction (`perception.chest_plane`; the vote leaves out
+        the frames whose arm covered the chest); until the chest is seen, the shoulders'
+        direction seen most often while no arm points. The estimated gaze inherits
+        (head_gain - 1) of the torso's error, and the shoulders' lifted points turn only a
+        fifth as far as the person (see chest_plane)."""
+        if chest is not None and np.isfinite(chest).all():
+            self._chest = self._chest.add(chest)
         if observation.pointing is None and observation.forward is not None:
-            self._forward_sum = self._forward_sum + observation.forward
-        length = float(np.linalg.norm(self._forward_sum))
-        if length < 1e-9:
-            return observation
-        return dataclasses.replace(observation, forward=self._forward_sum / length)
+            self._shoulders = self._shoulders.add(observation.forward)
+        for facing in (self._chest, self._shoulders):
+            forward = facing.direction()
+            if forward is not None:
+                return dataclasses.replace(observation, forward=forward)
+        return observation
 
     def update(
         self,
@@ -491,13 +531,16 @@ class IntentTracker:
         points: np.ndarray,
         confidence: np.ndarray,
         candidates: Sequence[tuple[str, np.ndarray]],
+        torso_forward: np.ndarray | None = None,
     ) -> IntentState:
         """Judge the frame captured at `time` (s), its rays smoothed over the recent frames,
-        and advance the dwell."""
+        and advance the dwell. `torso_forward` is the chest's facing in this frame (the
+        skeleton's; None or NaN when not seen)."""
         frame = _nothing_to_judge(confidence, candidates)
         if frame is None:
             centers = np.array([center for _, center in candidates], dtype=float)
-            seen = self._steady_forward(observe(points, confidence, centers, self.params))
+            observed = observe(points, confidence, centers, self.params)
+            seen = self._steady_forward(observed, torso_forward)
             frame = judge(self._smoother.smooth(time, seen), candidates, self.params)
         state = self.state_
         if state.target is not None:

@@ -26,6 +26,7 @@ from typing import NamedTuple
 import numpy as np
 
 from hsr_handover.perception.body_check import body_consistent
+from hsr_handover.perception.chest_plane import chest_forward
 from hsr_handover.perception.coco18 import (
     COCO18_KEYPOINTS,
     COCO18_LIMBS,
@@ -118,15 +119,23 @@ class Skeleton:
     points of the body surface seen at the pixels, NaN where not lifted. `confidence` (18,):
     in [0, 1], 0 = missing (not detected, or detected without depth to lift it; such a
     keypoint keeps its pixel). `status`: "ok" when any keypoint is present, else why none is.
+    `torso_forward` (3,): the horizontal unit vector the chest faces in the world, from its
+    plane in the depth image (`chest_plane`); NaN when the chest was not seen.
     """
 
     pixels: np.ndarray
     points: np.ndarray
     confidence: np.ndarray
     status: str = STATUS_OK
+    torso_forward: np.ndarray = dataclasses.field(default_factory=lambda: np.full(3, np.nan))
 
     def __post_init__(self) -> None:
         _freeze_keypoint_arrays(self, {"pixels": 2, "points": 3})
+        forward = np.array(self.torso_forward, dtype=float)
+        if forward.shape != (3,):
+            raise ValueError(f"torso_forward: expected 3 values, got shape {forward.shape}")
+        forward.flags.writeable = False
+        object.__setattr__(self, "torso_forward", forward)
 
     @classmethod
     def missing(cls, status: str) -> Skeleton:
@@ -345,7 +354,8 @@ def lift_keypoints(
     front of it) is lifted again from its window's far quarter, and checked again with the
     others. A shoulder hidden behind its arm takes its depth from the torso
     (`torso_shoulder_depths`). A keypoint without valid depth, or still where no body could
-    hold it, keeps its pixel but gets confidence 0 and no point.
+    hold it, keeps its pixel but gets confidence 0 and no point. The torso's facing comes from
+    the chest's plane below the detected shoulders (`chest_forward`).
     """
     depth = checked_depth(depth, camera)
     pixels = np.asarray(pixels, dtype=float)
@@ -373,7 +383,9 @@ def lift_keypoints(
     lifted = kept | mended
     points[~lifted] = np.nan
     status = STATUS_OK if lifted.any() else NO_VALID_DEPTH
-    return Skeleton(pixels, points, np.where(lifted, confidence, 0.0), status)
+    facing = chest_forward(depth, pixels, np.where(detected, confidence, 0.0), camera, X_WC)
+    forward = np.full(3, np.nan) if facing is None else facing
+    return Skeleton(pixels, points, np.where(lifted, confidence, 0.0), status, forward)
 
 
 def lift_detection(

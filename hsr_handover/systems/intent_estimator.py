@@ -60,7 +60,10 @@ class IntentEstimator(LeafSystem):
         if not math.isfinite(time):
             time = context.get_time()
         skeleton = self._skeleton.Eval(context)
-        tracker.update(time, skeleton.points, skeleton.confidence, self._candidates(context))
+        candidates = self._candidates(context)
+        tracker.update(
+            time, skeleton.points, skeleton.confidence, candidates, skeleton.torso_forward
+        )
 
     def _state(self, context: Context) -> IntentState:
         return context.get_abstract_state(self._tracker).get_value().state_

@@ -3,6 +3,9 @@ cross-check deciding which detections are candidates, and the rays it reports.""
 
 from __future__ import annotations
 
+import dataclasses
+import math
+
 import numpy as np
 import pytest
 from pydrake.systems.analysis import Simulator
@@ -26,9 +29,10 @@ def _inputs(target: int = 2):
     return skeleton, DetectionResult(detections, "ok")
 
 
-def _run(system, until: float, support=None, image_time=None):
+def _run(system, until: float, support=None, image_time=None, skeleton=None):
     context = system.CreateDefaultContext()
-    skeleton, detections = _inputs()
+    pointing, detections = _inputs()
+    skeleton = pointing if skeleton is None else skeleton
     system.GetInputPort("skeleton").FixValue(context, skeleton)
     system.GetInputPort("detections").FixValue(context, detections)
     if support is not None:
@@ -52,6 +56,23 @@ def test_recognises_after_the_dwell_from_its_own_frames():
     assert intent.recognised_time == pytest.approx(0.502)
     assert pointing is not None and gaze is not None
     assert pointing.direction[0] < 0 and gaze.direction[0] < 0  # toward the table, from x=1.75
+
+
+def test_the_skeletons_chest_facing_is_the_torso_the_gaze_turns_from():
+    """The eyes' direction is the torso's plus head_gain x the face's turn from it: turning
+    the chest by d (the shoulders unchanged) turns the estimated gaze by -(head_gain - 1) d."""
+    params = IntentParams(t_max=0.3, smoothing_s=0.4)
+    points, confidence = keypoints(look_at=CUPS[2][1])  # looking, no arm raised
+    skeleton = Skeleton(np.zeros((18, 2)), points, confidence)
+    turn = 0.1
+    chest = np.array([-math.cos(turn), -math.sin(turn), 0.0])  # the shoulders say -x exactly
+    headings = []
+    for facing in (np.full(3, np.nan), chest):
+        looking = dataclasses.replace(skeleton, torso_forward=facing)
+        _, (_, gaze) = _run(IntentEstimator(period=0.1, params=params), 0.25, skeleton=looking)
+        headings.append(math.atan2(gaze.direction[1], gaze.direction[0]))
+    shift = (headings[1] - headings[0] + math.pi) % (2 * math.pi) - math.pi
+    assert shift == pytest.approx(-(params.head_gain - 1) * turn, abs=1e-6)
 
 
 def test_the_capture_time_times_the_dwell_when_connected():
