@@ -510,8 +510,8 @@ class IntentTracker:
 
     def _steady_forward(self, observation: Observation, chest: np.ndarray | None) -> Observation:
         """A person at the table turns the head, not the torso: the chest's facing seen most
-        often stands for the torso's direction (`perception.chest_plane`; the vote leaves out
-        the frames whose arm covered the chest); until the chest is seen, the shoulders'
+        often stands for the torso's direction (`perception.chest_plane`; the frames whose arm
+        covered the chest are outvoted); until the chest is seen, the shoulders'
         direction seen most often while no arm points. The estimated gaze inherits
         (head_gain - 1) of the torso's error, and the shoulders' lifted points turn only a
         fifth as far as the person (see chest_plane)."""
