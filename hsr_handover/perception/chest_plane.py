@@ -37,6 +37,17 @@ MIN_NORMAL_HORIZONTAL = 0.5  # of the plane's unit normal: a chest is upright
 MAX_TURN_FROM_CAMERA_DEG = 60.0  # a chest the camera sees enough of to fit is turned toward it
 
 _SHOULDERS = (keypoint_index("r_shoulder"), keypoint_index("l_shoulder"))
+# The patch's samples as (across, down) offsets: across in shoulders' widths from their middle,
+# down in shoulder widths below their line.
+_ACROSS, _DOWN = (
+    grid.ravel()
+    for grid in np.meshgrid(
+        np.linspace(-CHEST_ACROSS / 2, CHEST_ACROSS / 2, CHEST_GRID[0]),
+        np.linspace(*CHEST_DOWN, CHEST_GRID[1]),
+    )
+)
+# RANSAC's draws, fixed: uniform in [0, 1), scaled to however many points a patch has.
+_DRAWS = np.random.default_rng(0).random((PLANE_DRAWS, 3))
 
 
 def chest_forward(
@@ -75,17 +86,14 @@ def _chest_pixels(pixels: np.ndarray, confidence: np.ndarray):
         return None
     down = np.array([-across[1], across[0]]) / width
     down = down if down[1] > 0 else -down  # image rows grow downward
-    lateral = np.linspace(-CHEST_ACROSS / 2, CHEST_ACROSS / 2, CHEST_GRID[0])
-    below = np.linspace(*CHEST_DOWN, CHEST_GRID[1]) * width
-    a, b = (grid.reshape(-1, 1) for grid in np.meshgrid(lateral, below))
-    samples = (right + left) / 2 + a * across + b * down
+    samples = (right + left) / 2 + np.outer(_ACROSS, across) + np.outer(_DOWN * width, down)
     return np.rint(samples[:, 0]).astype(int), np.rint(samples[:, 1]).astype(int)
 
 
 def _plane_points(points: np.ndarray) -> np.ndarray | None:
     """The points (N, 3) on the plane through three of them that holds the most within
     PLANE_TOLERANCE_M; None when that plane holds fewer than MIN_CHEST_POINTS."""
-    draws = np.random.default_rng(0).integers(0, len(points), size=(PLANE_DRAWS, 3))
+    draws = (_DRAWS * len(points)).astype(int)
     first, second, third = (points[draws[:, k]] for k in range(3))
     normals = np.cross(second - first, third - first)
     lengths = np.linalg.norm(normals, axis=1)
@@ -104,9 +112,10 @@ def _facing(points: np.ndarray, camera_position: np.ndarray) -> np.ndarray | Non
     camera sees faces it); None for a plane too tilted, or turned too far from the camera, to
     be a chest's (an arm hanging in front of the chest fits a plane edge on)."""
     center = points.mean(axis=0)
-    _, _, axes = np.linalg.svd(points - center, full_matrices=False)
+    offsets = points - center
+    _, axes = np.linalg.eigh(offsets.T @ offsets)  # ascending: the first axis is the normal
     to_camera = camera_position - center
-    normal = axes[2] if axes[2] @ to_camera > 0 else -axes[2]
+    normal = axes[:, 0] if axes[:, 0] @ to_camera > 0 else -axes[:, 0]
     horizontal = np.array([normal[0], normal[1], 0.0])
     length = float(np.linalg.norm(horizontal))
     toward = np.array([to_camera[0], to_camera[1], 0.0])
