@@ -32,7 +32,7 @@ CHEST_GRID = (15, 10)  # samples across and down the patch
 MIN_CHEST_POINTS = 40  # of the 150 samples, on the chest's plane
 PLANE_TOLERANCE_M = 0.01  # a point this near the plane lies on it (clothes, depth noise)
 PLANE_DRAWS = 64  # RANSAC's three-point draws
-MIN_SHOULDER_WIDTH_PX = 6.0
+MIN_SHOULDER_WIDTH_PX = 6.0  # narrower, the shoulders span too few pixels for a patch
 MIN_NORMAL_HORIZONTAL = 0.5  # of the plane's unit normal: a chest is upright
 MAX_TURN_FROM_CAMERA_DEG = 60.0  # a chest the camera sees enough of to fit is turned toward it
 
