@@ -36,6 +36,11 @@ class SkeletonLifter(LeafSystem):
             prerequisites_of_calc={self.all_input_ports_ticket()},
         )
 
+    @property
+    def camera(self) -> PinholeCamera:
+        """The depth image's intrinsics."""
+        return self._camera
+
     def _lift(self, context: Context, output: AbstractValue) -> None:
         image: ImageDepth32F = self._depth.Eval(context)
         if image.size() == 0:
