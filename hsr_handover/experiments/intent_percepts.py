@@ -59,7 +59,7 @@ class PerceptRecorder:
                     skeleton.confidence,
                     candidates,
                     skeleton.torso_forward,
-                )  # fmt: skip
+                )
             )
         return EventStatus.Succeeded()
 
