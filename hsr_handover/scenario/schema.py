@@ -323,7 +323,8 @@ class IntentConfig:
     direction and its pitch from level, tilted down by `face_tilt_deg`, scaled by `head_gain`)
     within `gaze_tolerance_deg` horizontally of the same object and no more than
     `gaze_pitch_tolerance_deg` above it, both for `t_max`, over rays averaged across
-    `smoothing_s`, while the pointing arm turns slower than `steady_deg_s`; an arm that reads
+    `smoothing_s` (the face's pitch across `pitch_smoothing_s`), while the pointing arm turns
+    slower than `steady_deg_s`; an arm that reads
     bent for no longer than `bent_gap_s` goes on pointing; `gaze_weight` weighs the eyes
     against the arm between objects both allow. The meaning and the measured defaults:
     `hsr_handover.intent.IntentParams`.
@@ -331,7 +332,7 @@ class IntentConfig:
     Ranges: straight_arm_deg in (90, 180] deg; d_min in (0, 2] m; gaze_tolerance_deg and
     gaze_pitch_tolerance_deg in (0, 90] deg; gaze_weight in (0, 10]; t_max in [0, 10] s;
     head_gain in [1, 3]; face_tilt_deg in [0, 90] deg; smoothing_s in [0, 10] s; steady_deg_s
-    in (0, 1000] deg/s; bent_gap_s in [0, 10] s."""
+    in (0, 1000] deg/s; bent_gap_s and pitch_smoothing_s in [0, 10] s."""
 
     straight_arm_deg: float = IntentParams.straight_arm_deg
     d_min: float = IntentParams.d_min
@@ -345,6 +346,7 @@ class IntentConfig:
     smoothing_s: float = IntentParams.smoothing_s
     steady_deg_s: float = IntentParams.steady_deg_s
     bent_gap_s: float = IntentParams.bent_gap_s
+    pitch_smoothing_s: float = IntentParams.pitch_smoothing_s
 
     def params(self) -> IntentParams:
         """The recogniser's parameters (raises ValueError naming a field out of range)."""

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
 
 import numpy as np
@@ -27,6 +28,7 @@ from hsr_handover.intent.tracker import (
     SteadyFacing,
     bearing_errors_deg,
     gaze_ray,
+    judge,
     judge_frame,
     observe,
     pitch_errors_deg,
@@ -156,6 +158,37 @@ def test_eyes_looking_over_the_table_do_not_ask_for_the_cup_the_arm_lies_toward(
     assert pitch_errors_deg(over.gaze, center[None])[0] > params.gaze_pitch_tolerance_deg
     points, confidence = keypoints(look_at=center, point_with="right", point_at=center)
     assert judge_frame(points, confidence, CUPS, params).candidate == label
+
+
+def test_the_pitch_is_checked_on_the_face_over_the_longer_window():
+    """The horizontal bearing is read from `face`; whether the eyes pass above the object from
+    `face_for_pitch` (the face averaged over `pitch_smoothing_s`): a face that has looked
+    ahead over the table for most of that window does not ask, though it dips to the cup now."""
+    label, center = CUPS[1]
+    params = IntentParams(face_tilt_deg=math.degrees(math.atan2(0.18, 0.42)))
+    centers = np.array([c for _, c in CUPS])
+    ahead = np.array([-1.0, 0.0, BODY.eye_z])
+    down = observe(*keypoints(look_at=center, point_with="right", point_at=center), centers,
+                   params)  # fmt: skip
+    over = observe(*keypoints(look_at=ahead), centers, params)
+    asking = dataclasses.replace(down, sweep_deg_s=0.0)
+    assert judge(asking, CUPS, params).candidate == label
+    looked_over = dataclasses.replace(asking, face_for_pitch=over.face)
+    assert judge(looked_over, CUPS, params).status == GAZE_ELSEWHERE
+
+
+def test_the_smoother_averages_the_face_for_pitch_over_its_own_window():
+    smoother = RaySmoother(window=0.2, pitch_window=0.5)
+    up, level = (Ray(np.zeros(3), np.array(d)) for d in ([0.6, 0.0, 0.8], [1.0, 0.0, 0.0]))
+    smoother.smooth(0.0, Observation(face=up))
+    seen = smoother.smooth(0.3, Observation(face=level))
+    np.testing.assert_allclose(seen.face.direction, level.direction)  # `up` left the window
+    expected = (up.direction + level.direction) / np.linalg.norm(up.direction + level.direction)
+    np.testing.assert_allclose(seen.face_for_pitch.direction, expected)
+    copied = copy.deepcopy(smoother)
+    copied.smooth(0.4, Observation(face=up))
+    again = smoother.smooth(0.4, Observation(face=level))  # the copy's frame is its own
+    np.testing.assert_allclose(again.face.direction, level.direction)
 
 
 def test_without_a_face_the_frame_is_unsure():
