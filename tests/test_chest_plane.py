@@ -86,11 +86,28 @@ def test_a_plane_turned_far_from_the_camera_is_no_chest():
                          CAMERA, X_WC) is None  # fmt: skip
 
 
-def test_an_arm_in_front_of_the_chest_is_left_out():
-    normal = _facing(20.0)
-    depth, pixels = _render(normal), _shoulder_pixels(normal)
+def _arm_far_in_front(depth: np.ndarray, pixels: np.ndarray) -> None:
+    """A forearm 0.3 m nearer the camera, 12 px wide, down from between the shoulders."""
     middle = np.rint(pixels[[R_SHOULDER, L_SHOULDER]].mean(axis=0)).astype(int)
-    depth[middle[1] :, middle[0] - 6 : middle[0] + 6] = 1.3  # a forearm 0.3 m nearer, 12 px wide
+    depth[middle[1] :, middle[0] - 6 : middle[0] + 6] = 1.3
+
+
+def _forearm_close_in_front(depth: np.ndarray, pixels: np.ndarray) -> None:
+    """A forearm across a third of the patch, 8 cm in front of the chest's middle and square
+    to the camera: a fit through both surfaces would turn the chest."""
+    (right, row), (left, _) = np.rint(pixels[[R_SHOULDER, L_SHOULDER]]).astype(int)
+    middle = depth[row + 20, (right + left) // 2]
+    depth[:, right + (left - right) // 5 : right + 2 * (left - right) // 5] = middle - 0.08
+
+
+@pytest.mark.parametrize(
+    ("yaw_deg", "occlude"), [(20.0, _arm_far_in_front), (-15.0, _forearm_close_in_front)]
+)
+def test_an_arm_in_front_of_the_chest_is_left_out(yaw_deg, occlude):
+    """The plane holding the most points is the chest's, not the arm's nor one through both."""
+    normal = _facing(yaw_deg)
+    depth, pixels = _render(normal), _shoulder_pixels(normal)
+    occlude(depth, pixels)
     facing = chest_forward(depth, pixels, _shoulders_seen(), CAMERA, X_WC)
     assert facing is not None
     assert _yaw_deg(facing) == pytest.approx(_yaw_deg(normal), abs=1.0)
@@ -106,21 +123,6 @@ def test_no_direction_without_both_shoulders_or_without_a_chest():
     assert chest_forward(nothing, pixels, _shoulders_seen(), CAMERA, X_WC) is None
     nan_depth = np.full_like(depth, np.nan)
     assert chest_forward(nan_depth, pixels, _shoulders_seen(), CAMERA, X_WC) is None
-
-
-def test_a_forearm_held_in_front_of_the_chest_does_not_tilt_it():
-    """A forearm across a third of the patch, 8 cm in front of the chest's middle and square
-    to the camera: a fit through both surfaces would turn the chest; the plane holding the
-    most points is the chest's."""
-    normal = _facing(-15.0)
-    depth, pixels = _render(normal), _shoulder_pixels(normal)
-    (right, row), (left, _) = np.rint(pixels[[R_SHOULDER, L_SHOULDER]]).astype(int)
-    middle = depth[row + 20, (right + left) // 2]
-    forearm = slice(right + (left - right) // 5, right + 2 * (left - right) // 5)
-    depth[:, forearm] = middle - 0.08
-    facing = chest_forward(depth, pixels, _shoulders_seen(), CAMERA, X_WC)
-    assert facing is not None
-    assert _yaw_deg(facing) == pytest.approx(_yaw_deg(normal), abs=1.0)
 
 
 def test_the_same_frame_gives_the_same_facing():

@@ -393,6 +393,12 @@ def _mean_ray(history: Sequence[tuple[float, Ray]]) -> Ray:
     return Ray(origin, direction / np.linalg.norm(direction))
 
 
+def _mean_since(history: Sequence[tuple[float, Ray]], start: float) -> Ray | None:
+    """The mean of the rays seen after `start` (s); None without any."""
+    recent = [(t, ray) for t, ray in history if t > start - 1e-9]
+    return _mean_ray(recent) if recent else None
+
+
 class RaySmoother:
     """The mean of the rays seen over the last `window` seconds, and how fast the pointing ray
     turns: the angle between the mean directions of the window's older and newer halves over
@@ -401,7 +407,8 @@ class RaySmoother:
     for longer than `gap` seconds (until then, the window's rays stand for it). A frame
     without a face adds nothing to the face's history but is given the window's mean: the face
     seen in the last `window` seconds, never a guess (OpenPose drops a face point in about a
-    quarter of frames; without a face seen in the window, there is no face)."""
+    quarter of frames; without a face seen in the window, there is no face). The face whose
+    pitch is checked is the mean over `pitch_window` seconds, from the same history."""
 
     MIN_FRAMES = 4  # for a turning rate: two frames in each half
 
@@ -409,8 +416,7 @@ class RaySmoother:
         self.window, self.gap = window, gap
         self.pitch_window = window if pitch_window is None else pitch_window
         self._pointing: list[tuple[float, Ray]] = []
-        self._face: list[tuple[float, Ray]] = []
-        self._face_for_pitch: list[tuple[float, Ray]] = []
+        self._face: list[tuple[float, Ray]] = []  # over the longer of the two face windows
         self._arm: str | None = None
 
     def __deepcopy__(self, memo: dict) -> RaySmoother:
@@ -418,7 +424,6 @@ class RaySmoother:
         (Drake copies the state at each frame)."""
         clone = copy.copy(self)
         clone._pointing, clone._face = list(self._pointing), list(self._face)
-        clone._face_for_pitch = list(self._face_for_pitch)
         return clone
 
     def smooth(self, time: float, observation: Observation) -> Observation:
@@ -431,8 +436,9 @@ class RaySmoother:
             self._pointing = []
         self._arm = observation.arm
         pointing = self._add(self._pointing, time, observation.pointing, self.window)
-        face = self._add(self._face, time, observation.face, self.window)
-        for_pitch = self._add(self._face_for_pitch, time, observation.face, self.pitch_window)
+        self._add(self._face, time, observation.face, max(self.window, self.pitch_window))
+        face = _mean_since(self._face, time - self.window)
+        for_pitch = _mean_since(self._face, time - self.pitch_window)
         sweep = self._sweep_deg_s() if pointing is not None else 0.0
         return dataclasses.replace(observation, pointing=pointing, face=face, sweep_deg_s=sweep,
                                    face_for_pitch=for_pitch)  # fmt: skip
@@ -442,7 +448,7 @@ class RaySmoother:
         if ray is not None:
             history.append((time, ray))
         history[:] = [(t, r) for t, r in history if t > time - window - 1e-9]
-        return _mean_ray(history) if history else None
+        return _mean_since(history, time - window)
 
     def _sweep_deg_s(self) -> float:
         history = self._pointing

@@ -324,10 +324,9 @@ class IntentConfig:
     within `gaze_tolerance_deg` horizontally of the same object and no more than
     `gaze_pitch_tolerance_deg` above it, both for `t_max`, over rays averaged across
     `smoothing_s` (the face's pitch across `pitch_smoothing_s`), while the pointing arm turns
-    slower than `steady_deg_s`; an arm that reads
-    bent for no longer than `bent_gap_s` goes on pointing; `gaze_weight` weighs the eyes
-    against the arm between objects both allow. The meaning and the measured defaults:
-    `hsr_handover.intent.IntentParams`.
+    slower than `steady_deg_s`; an arm that reads bent for no longer than `bent_gap_s` goes on
+    pointing; `gaze_weight` weighs the eyes against the arm between objects both allow. The
+    meaning and the measured defaults: `hsr_handover.intent.IntentParams`.
 
     Ranges: straight_arm_deg in (90, 180] deg; d_min in (0, 2] m; gaze_tolerance_deg and
     gaze_pitch_tolerance_deg in (0, 90] deg; gaze_weight in (0, 10]; t_max in [0, 10] s;
