@@ -38,7 +38,9 @@ def _time_render(repeats: int = 12) -> dict[str, float]:
     station = build_station(load_scenario(DEMO))
     camera = station.diagram.GetSubsystemByName("head_camera")
     context = station.diagram.CreateDefaultContext()
-    query = station.diagram.GetOutputPort("truth_query_object").Eval(context)
+    station.diagram.ExecuteInitializationEvents(context)  # the first capture poses the scene
+    scene = station.diagram.GetSubsystemByName("camera_scene_graph")
+    query = scene.get_query_output_port().Eval(scene.GetMyContextFromRoot(context))
     frame = station.plant.GetFrameByName(CAMERA_FRAME, station.robot)
     X_WC = frame.CalcPoseInWorld(station.plant.GetMyContextFromRoot(context))
     world = station.scene_graph.model_inspector().world_frame_id()

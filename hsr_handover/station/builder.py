@@ -21,7 +21,6 @@ import dataclasses
 import numpy as np
 from pydrake.common.value import AbstractValue
 from pydrake.geometry import (
-    MakeRenderEngineVtk,
     Meshcat,
     MeshcatVisualizer,
     MeshcatVisualizerParams,
@@ -189,7 +188,7 @@ def _add_sensors(builder, plant, scene_graph, robot, person, scenario: Scenario)
     intrinsics = camera_config.pinhole()
     camera = add_head_camera(
         builder, plant, scene_graph, robot, intrinsics, camera_config.depth_range,
-        camera_config.rate_hz, camera_config.render_label, RENDERER,
+        camera_config.rate_hz, camera_config.render_label, RENDERER, render_params(),
     )  # fmt: skip
     if scenario.perception.skeleton_recording is not None:
         keypoints = add_recorded_skeleton(builder, scenario)
@@ -234,7 +233,6 @@ def build_station(scenario: Scenario, meshcat: Meshcat | None = None) -> Station
     scene_graph.collision_filter_manager().Apply(floor_filter(plant, floor, (robot, person)))
     _add_person(builder, plant, robot, person, objects, body, timeline, scenario)
     add_hsr_interface(builder, plant, robot)
-    scene_graph.AddRenderer(RENDERER, MakeRenderEngineVtk(render_params()))
     _add_sensors(builder, plant, scene_graph, robot, person, scenario)
     _export_truth(builder, plant, scene_graph, robot, person)
     if meshcat is not None:

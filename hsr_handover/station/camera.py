@@ -1,4 +1,5 @@
-"""The HSR's head RGB-D camera (an Xtion): intrinsics from the scenario, mounted on the head."""
+"""The HSR's head RGB-D camera (an Xtion): intrinsics from the scenario, mounted on the head,
+rendering a copy of the world's perception geometry (`camera_scene`)."""
 
 from __future__ import annotations
 
@@ -8,6 +9,7 @@ from pydrake.geometry import (
     DepthRange,
     DepthRenderCamera,
     RenderCameraCore,
+    RenderEngineVtkParams,
     SceneGraph,
 )
 from pydrake.math import RigidTransform
@@ -17,6 +19,7 @@ from pydrake.systems.framework import DiagramBuilder
 
 from hsr_handover.hsr import CAMERA_FRAME
 from hsr_handover.perception.pinhole import PinholeCamera
+from hsr_handover.station.camera_scene import add_camera_scene
 from hsr_handover.systems.head_camera import HeadCamera, to_camera_info
 
 
@@ -30,12 +33,15 @@ def add_head_camera(
     rate_hz: float,
     render_label: bool,
     renderer: str,
+    render_params: RenderEngineVtkParams,
 ) -> HeadCamera:
-    """Mount the head camera on the robot's camera frame, rendering colour, depth ([near, far]
+    """Mount the head camera on the robot's camera frame, capturing colour, depth ([near, far]
     in m) and, when `render_label`, labels at `rate_hz`; images are held between frames, as a
-    real camera's are."""
+    real camera's are. Call once the world's geometry is complete: the camera renders its own
+    copy of it, with `renderer` made from `render_params`."""
     frame = plant.GetFrameByName(CAMERA_FRAME, robot)
     parent = plant.GetBodyFrameIdOrThrow(frame.body().index())
+    scene = add_camera_scene(builder, scene_graph, renderer, render_params, (parent,))
     near, far = depth_range
     core = RenderCameraCore(
         renderer, to_camera_info(intrinsics), ClippingRange(0.05, far + 1.0), RigidTransform()
@@ -48,8 +54,13 @@ def add_head_camera(
             parent,
             frame.GetFixedPoseInBodyFrame(),
             rate_hz,
+            scene.frames,
             render_label,
         ),
     )
-    builder.Connect(scene_graph.get_query_output_port(), camera.GetInputPort("query_object"))
+    builder.Connect(plant.get_geometry_pose_output_port(), camera.GetInputPort("frame_poses"))
+    builder.Connect(
+        camera.GetOutputPort("scene_poses"), scene.scene_graph.get_source_pose_port(scene.source)
+    )
+    builder.Connect(scene.scene_graph.get_query_output_port(), camera.GetInputPort("query_object"))
     return camera
