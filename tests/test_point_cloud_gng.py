@@ -84,6 +84,24 @@ def test_point_cloud_gng_learns_at_its_rate_and_outputs_the_graph():
     assert graph.edges.max() < len(graph.nodes) and len(graph.clusters) == len(graph.nodes)
 
 
+def test_point_cloud_gng_rests_while_the_robot_is_not_watching():
+    system = PointCloudGng(SCENE_GNG_PARAMS, WORKSPACE, period=0.1, n_signals=3000, seed=2)
+    context = system.CreateDefaultContext()
+    system.GetInputPort("point_cloud").FixValue(context, _cloud(_plane(5000)))
+    system.GetInputPort("watching").FixValue(context, [0.0])
+    simulator = Simulator(system, context)
+    simulator.AdvanceTo(0.55)
+    assert system.GetOutputPort("frame_report").Eval(context).status == "no frame yet"
+    assert len(system.GetOutputPort("graph").Eval(context).nodes) == 0
+    system.GetInputPort("watching").FixValue(context, [1.0])
+    simulator.AdvanceTo(1.01)
+    graph: GraphSnapshot = system.GetOutputPort("graph").Eval(context)
+    assert graph.time == pytest.approx(1.0 + PROCESSING_DELAY_S) and len(graph.nodes) > 20
+    system.GetInputPort("watching").FixValue(context, [0.0])
+    simulator.AdvanceTo(1.51)
+    assert system.GetOutputPort("graph").Eval(context).time == graph.time  # kept as it was
+
+
 class _TickingCamera(LeafSystem):
     """Holds a cloud captured every `period` s, like the HeadCamera: frame k is a plane at
     height k (m), so which frame a map learnt shows in its nodes' height."""

@@ -17,9 +17,11 @@ from pydrake.systems.primitives import ConstantVectorSource
 from hsr_handover import interface
 from hsr_handover.hsr import COMMANDED_JOINTS
 from hsr_handover.robot import PERCEPTION_OUTPUTS, build_robot, ready_command
+from hsr_handover.robot.builder import WATCH_ONLY
 from hsr_handover.scenario import load_scenario
 from hsr_handover.simulation import build_simulation, connect_robot
 from hsr_handover.station import build_station
+from hsr_handover.systems.watching import WATCHING
 from tests.conftest import SCENARIOS
 
 
@@ -169,3 +171,21 @@ def test_robot_without_perception_only_commands():
     scenario.perception.enabled = False
     diagram = build_robot(scenario).diagram
     assert diagram.num_input_ports() == 0 and diagram.num_output_ports() == 2
+
+
+@pytest.mark.parametrize("handover", [True, False])
+def test_the_watch_only_perception_rests_by_the_supervisors_watching_output(handover):
+    scenario = load_scenario(SCENARIOS / "demo.yaml")
+    scenario.handover.enabled = handover
+    diagram = build_robot(scenario).diagram
+    sources = _sources(diagram)
+    for name in WATCH_ONLY:
+        system = diagram.GetSubsystemByName(name)
+        port = system.GetInputPort(WATCHING).get_index()
+        source = sources.get((system.GetSystemPathname(), int(port)))
+        if not handover:
+            assert source is None  # unconnected: it always works
+            continue
+        feeder, output = source
+        assert feeder.get_name() == "handover_supervisor"
+        assert feeder.get_output_port(output).get_name() == WATCHING

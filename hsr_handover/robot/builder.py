@@ -20,8 +20,11 @@ from hsr_handover.hsr import COMMANDED_JOINTS, FINGER_PER_OPENING, GRIPPER_JOINT
 from hsr_handover.robot.perception import PERCEPTION_OUTPUTS, add_perception
 from hsr_handover.scenario import Scenario, robot_start_positions
 from hsr_handover.systems.handover_supervisor import HandoverSupervisor
+from hsr_handover.systems.watching import WATCHING
 
 HANDOVER_OUTPUTS = ("cycle", "plan_view")  # the supervisor's, exported when handover is on
+WATCH_ONLY = ("point_cloud_gng", "intent_estimator")
+"""The perception systems whose work serves only the watch for a request (`systems.watching`)."""
 
 
 @dataclasses.dataclass
@@ -57,6 +60,10 @@ def _feed_supervisor(builder: DiagramBuilder, supervisor: HandoverSupervisor) ->
     ):
         source = builder.GetSubsystemByName(system).GetOutputPort(output)
         builder.Connect(source, supervisor.GetInputPort(port))
+    # What serves only the watch rests while the robot acts.
+    for system in WATCH_ONLY:
+        watching = builder.GetSubsystemByName(system).GetInputPort(WATCHING)
+        builder.Connect(supervisor.GetOutputPort(WATCHING), watching)
 
 
 def build_robot(scenario: Scenario) -> Robot:

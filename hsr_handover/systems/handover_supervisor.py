@@ -6,8 +6,10 @@ Inputs, all percepts: `hsr_state_measured` and `gripper_opening_measured` (the j
 `detections`. Every TICK_S it looks round first (the head panned to the table's ends), then
 steps the `HandoverCycle` on what it perceives; the cycle plans through a `PerceivedPlanner`.
 Outputs: `hsr_desired_state` ([q; v] of COMMANDED_JOINTS: the motion under way, else where it
-stands; the ready posture before any), `gripper_desired_opening`, `cycle` (the record) and
-`plan_view` (PlanView: what the plans show in the replay).
+stands; the ready posture before any), `gripper_desired_opening`, `cycle` (the record),
+`plan_view` (PlanView: what the plans show in the replay) and `watching` (1 while the cycle
+watches for a request, else 0: the perception that serves only the watch rests, see
+`systems.watching`).
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ from hsr_handover.handover.plan_view import PlanView
 from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY, HEAD_JOINTS
 from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.planning.perceived_scene import PerceivedScene
+from hsr_handover.systems.watching import WATCHING
 
 TICK_S = 0.1  # s between the supervisor's decisions
 PAN, TILT = (COMMANDED_JOINTS.index(joint) for joint in HEAD_JOINTS)
@@ -74,6 +77,11 @@ class HandoverSupervisor(LeafSystem):
         self.DeclareAbstractOutputPort(
             "plan_view", lambda: AbstractValue.Make(PlanView()), self._calc_plan_view
         )
+        # From the state alone: the perception it gates feeds this system's inputs.
+        self.DeclareVectorOutputPort(
+            WATCHING, 1, self._calc_watching,
+            prerequisites_of_calc={self.abstract_state_ticket(self._memory)},
+        )  # fmt: skip
         self.DeclarePeriodicUnrestrictedUpdateEvent(TICK_S, 0.0, self._tick)
 
     def _memory_of(self, context: Context) -> _Memory:
@@ -142,6 +150,10 @@ class HandoverSupervisor(LeafSystem):
             output.SetFromVector([self._ready_opening])
             return
         output.SetFromVector([cycle.gripper])
+
+    def _calc_watching(self, context: Context, output: BasicVector) -> None:
+        watching = self._memory_of(context).cycle.cycle.phase is Phase.WATCH
+        output.SetFromVector([1.0 if watching else 0.0])
 
     def _calc_cycle(self, context: Context, output: AbstractValue) -> None:
         output.set_value(dataclasses.replace(self._memory_of(context).cycle.cycle))

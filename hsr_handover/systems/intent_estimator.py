@@ -10,6 +10,7 @@ from pydrake.systems.framework import Context, LeafSystem, State
 from hsr_handover.intent import IntentParams, IntentState, IntentTracker
 from hsr_handover.perception.cross_check import confirmed_candidates
 from hsr_handover.systems.frame_timing import PROCESSING_DELAY_S
+from hsr_handover.systems.watching import declare_watching_input, is_watching
 
 
 class IntentEstimator(LeafSystem):
@@ -17,8 +18,10 @@ class IntentEstimator(LeafSystem):
 
     Inputs: `skeleton` (Skeleton, lifted), `detections` (DetectionResult), and optionally
     `detection_support` (DetectionSupport per detection, from the map cross-check: when
-    connected, only confirmed detections are candidates) and `image_time` (s, the capture
-    time, which times the dwell; unconnected, the update's own time stands in).
+    connected, only confirmed detections are candidates), `image_time` (s, the capture
+    time, which times the dwell; unconnected, the update's own time stands in) and `watching`
+    (optional: while it is 0 no frame is judged and the intent stays as it was, see
+    `watching`).
     Outputs: `intent` (IntentState: the recognised target or None, its confidence and the time
     it was recognised, the current request and the frame's judgement) and `rays` (the frame's
     pointing and gaze Rays, each None when not seen), for the replay.
@@ -41,6 +44,7 @@ class IntentEstimator(LeafSystem):
         self._detections = self.DeclareAbstractInputPort("detections", AbstractValue.Make(object()))
         self._support = self.DeclareAbstractInputPort("detection_support", AbstractValue.Make(()))
         self._image_time = self.DeclareAbstractInputPort("image_time", AbstractValue.Make(math.nan))
+        self._watching = declare_watching_input(self)
         self._tracker = self.DeclareAbstractState(AbstractValue.Make(IntentTracker(self._params)))
         self.DeclareAbstractOutputPort(
             "intent", lambda: AbstractValue.Make(IntentState()), self._calc_intent
@@ -55,6 +59,8 @@ class IntentEstimator(LeafSystem):
         return confirmed_candidates(detections, self._support.Eval(context))
 
     def _judge(self, context: Context, state: State) -> None:
+        if not is_watching(self._watching, context):
+            return
         tracker: IntentTracker = state.get_mutable_abstract_state(self._tracker).get_value()
         time = self._image_time.Eval(context) if self._image_time.HasValue(context) else math.nan
         if not math.isfinite(time):

@@ -17,6 +17,7 @@ from hsr_handover.perception.cloud_map import (
     learn_frame,
 )
 from hsr_handover.systems.frame_timing import PROCESSING_DELAY_S
+from hsr_handover.systems.watching import declare_watching_input, is_watching
 from hsr_handover.topology.growing_neural_gas import GrowingNeuralGas
 
 STATS = ("node_count", "mean_node_error", "quantisation_error", "point_count")
@@ -27,11 +28,12 @@ class PointCloudGng(LeafSystem):
     `period` s, `delay` s after each camera capture.
 
     Inputs: `point_cloud` (PointCloud in the world frame, e.g. from DepthImageToPointCloud),
-    `attention` (a tuple of AttentionRegion; optional, unconnected means no attention) and
+    `attention` (a tuple of AttentionRegion; optional, unconnected means no attention),
     `image_time` (float, s, the capture time of the frame behind the cloud; optional, recorded
-    in the report). Outputs: `graph` (GraphSnapshot), `frame_report` (FrameReport: what the
-    last frame did, or why it did nothing) and `stats` (vector: node count, mean node error,
-    quantisation error of the frame in m, point count).
+    in the report) and `watching` (optional: while it is 0 the map keeps what it has and reads
+    no frame, see `watching`). Outputs: `graph` (GraphSnapshot), `frame_report` (FrameReport:
+    what the last frame did, or why it did nothing) and `stats` (vector: node count, mean node
+    error, quantisation error of the frame in m, point count).
 
     Learning `delay` s after the capture learns the frame captured at this tick (see
     `frame_timing`).
@@ -57,6 +59,7 @@ class PointCloudGng(LeafSystem):
         self._image_time = self.DeclareAbstractInputPort(
             "image_time", AbstractValue.Make(float("nan"))
         )
+        self._watching = declare_watching_input(self)
         learner = GrowingNeuralGas(**gng_params, random_state=seed)
         self._learner = self.DeclareAbstractState(AbstractValue.Make(learner))
         self._graph = self.DeclareAbstractState(AbstractValue.Make(GraphSnapshot.empty()))
@@ -71,6 +74,8 @@ class PointCloudGng(LeafSystem):
         return port.Eval(context) if port.HasValue(context) else default
 
     def _learn(self, context: Context, state: State) -> None:
+        if not is_watching(self._watching, context):
+            return
         learner: GrowingNeuralGas = state.get_mutable_abstract_state(self._learner).get_value()
         cloud: PointCloud = self._cloud.Eval(context)
         regions = self._optional(self._attention, context, ())

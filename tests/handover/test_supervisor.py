@@ -49,8 +49,10 @@ def test_it_looks_round_the_table_then_holds_the_ready_posture(supervisor):
     for stop, pan in enumerate(LOOK_AROUND_PANS):
         simulator.AdvanceTo((stop + 0.5) * LOOK_DWELL_S)
         assert _command(system, context)[PAN] == pan
+        assert system.GetOutputPort("watching").Eval(context)[0] == 1.0
     simulator.AdvanceTo(LOOK_ROUND_S + 1.0)
     np.testing.assert_allclose(_command(system, context), ready)
+    assert system.GetOutputPort("watching").Eval(context)[0] == 1.0
     assert system.GetOutputPort("gripper_desired_opening").Eval(context)[0] == OPENING
     assert system.GetOutputPort("cycle").Eval(context).phase is Phase.WATCH
     view = system.GetOutputPort("plan_view").Eval(context)  # nothing planned, nothing to draw
@@ -64,6 +66,7 @@ def test_a_request_for_an_object_it_never_perceived_fails_as_unreachable(supervi
     cycle = system.GetOutputPort("cycle").Eval(context)
     assert cycle.phase is Phase.FAILED and cycle.failure is Failure.UNREACHABLE
     assert cycle.target == "purple" and "purple" in cycle.reason
+    assert system.GetOutputPort("watching").Eval(context)[0] == 0.0  # done watching
 
 
 def test_a_person_with_one_shoulder_hidden_is_still_in_view():

@@ -29,8 +29,10 @@ def _inputs(target: int = 2):
     return skeleton, DetectionResult(detections, "ok")
 
 
-def _run(system, until: float, support=None, image_time=None, skeleton=None):
+def _run(system, until: float, support=None, image_time=None, skeleton=None, watching=None):
     context = system.CreateDefaultContext()
+    if watching is not None:
+        system.GetInputPort("watching").FixValue(context, [watching])
     pointing, detections = _inputs()
     skeleton = pointing if skeleton is None else skeleton
     system.GetInputPort("skeleton").FixValue(context, skeleton)
@@ -56,6 +58,15 @@ def test_recognises_after_the_dwell_from_its_own_frames():
     assert intent.recognised_time == pytest.approx(0.502)
     assert pointing is not None and gaze is not None
     assert pointing.direction[0] < 0 and gaze.direction[0] < 0  # toward the table, from x=1.75
+
+
+def test_it_judges_no_frame_while_the_robot_is_not_watching():
+    system = IntentEstimator(period=0.1, params=IntentParams(t_max=0.3, smoothing_s=0.4))
+    resting, (pointing, gaze) = _run(system, 0.7, watching=0.0)
+    assert resting.target is None and resting.candidate is None
+    assert pointing is None and gaze is None
+    watching, _ = _run(system, 0.7, watching=1.0)
+    assert watching.target == "blue"
 
 
 def test_the_skeletons_chest_facing_is_the_torso_the_gaze_turns_from():

@@ -1,0 +1,24 @@
+"""The robot's `watching` signal (1 while its handover cycle watches for a request, 0 while it
+acts): the perception that serves only the watch rests while the robot acts.
+
+The scene map feeds only the intent estimator (through the detections' cross-check), and the
+supervisor reads the intent only until it has a target; the planner works from detections, the
+table and the skeleton, which it reads at its own ticks. Resting the two leaves every decision
+as it was, and the camera renders only the frames something still reads (a third of a handover
+trial's frames are read while the robot acts, against all of them).
+"""
+
+from __future__ import annotations
+
+from pydrake.systems.framework import Context, InputPort, LeafSystem
+
+WATCHING = "watching"
+
+
+def declare_watching_input(system: LeafSystem) -> InputPort:
+    """An optional input `watching` (1 element): unconnected, the system always works."""
+    return system.DeclareVectorInputPort(WATCHING, 1)
+
+
+def is_watching(port: InputPort, context: Context) -> bool:
+    return not port.HasValue(context) or port.Eval(context)[0] > 0.5
