@@ -2,8 +2,9 @@
 
 The plant's PD controllers take [q_d; v_d] over every actuator, the gripper's finger among
 them; the robot commands `COMMANDED_JOINTS` and a fingertip opening instead, and reads the same
-joints back. Both directions are constant selection matrices: a NamedInputsGain in, Drake's
-MatrixGain out. The wrist's force-torque sensor reads the plant's reaction at the hand's mount.
+joints back. Both directions are constant selection matrices, Drake's MatrixGain (in, over
+the commands stacked by a Multiplexer, with `RequiredInputs` naming a command left
+unconnected). The wrist's force-torque sensor reads the plant's reaction at the hand's mount.
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ import numpy as np
 from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import ModelInstanceIndex
 from pydrake.systems.framework import DiagramBuilder
-from pydrake.systems.primitives import MatrixGain
+from pydrake.systems.primitives import MatrixGain, Multiplexer
 
 from hsr_handover.hsr import (
     COMMANDED_JOINTS,
@@ -28,7 +29,7 @@ from hsr_handover.interface import (
     HSR_STATE_MEASURED,
     HSR_WRIST_WRENCH_MEASURED,
 )
-from hsr_handover.systems.named_inputs_gain import NamedInputsGain
+from hsr_handover.systems.required_inputs import RequiredInputs
 from hsr_handover.systems.wrist_force_sensor import WristForceSensor
 
 
@@ -82,13 +83,14 @@ def add_hsr_interface(
     """
     n = len(COMMANDED_JOINTS)
     inputs = ((HSR_DESIRED_STATE, 2 * n), (GRIPPER_DESIRED_OPENING, 1))
-    commands = builder.AddNamedSystem(
-        "hsr_commands",
-        NamedInputsGain(inputs, command_matrix(plant, robot), "actuator_desired_state"),
-    )
+    stacked = builder.AddNamedSystem("hsr_commands", Multiplexer([size for _, size in inputs]))
+    commands = builder.AddNamedSystem("hsr_command_map", MatrixGain(command_matrix(plant, robot)))
+    required = builder.AddNamedSystem("hsr_commands_required", RequiredInputs(inputs))
+    builder.Connect(stacked.get_output_port(), commands.get_input_port())
     builder.Connect(commands.get_output_port(), plant.get_desired_state_input_port(robot))
-    for name, _ in inputs:
-        builder.ExportInput(commands.GetInputPort(name), name)
+    for index, (name, _) in enumerate(inputs):
+        builder.ExportInput(stacked.get_input_port(index), name)
+        builder.ConnectInput(name, required.GetInputPort(name))
     joints, opening = measurement_matrices(plant, robot)
     for name, matrix in ((HSR_STATE_MEASURED, joints), (GRIPPER_OPENING_MEASURED, opening)):
         sensor = builder.AddNamedSystem(name, MatrixGain(matrix))
