@@ -22,7 +22,7 @@ from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import DiagramBuilder
 from pydrake.systems.sensors import CameraInfo
 
-from hsr_handover.station.camera_scene import add_camera_scene
+from hsr_handover.station.camera_scene import add_camera_scene, connect_camera
 from hsr_handover.systems.head_camera import HeadCamera
 
 RATE_HZ = 10.0
@@ -64,11 +64,7 @@ def rig():
     )
     color, depth = ColorRenderCamera(core), DepthRenderCamera(core, DepthRange(0.1, 4.0))
     camera = builder.AddSystem(HeadCamera(color, depth, parent, X_PC, RATE_HZ, scene.frames))
-    builder.Connect(plant.get_geometry_pose_output_port(), camera.GetInputPort("frame_poses"))
-    builder.Connect(
-        camera.GetOutputPort("scene_poses"), scene.scene_graph.get_source_pose_port(scene.source)
-    )
-    builder.Connect(scene.scene_graph.get_query_output_port(), camera.GetInputPort("query_object"))
+    connect_camera(builder, scene, camera, plant.get_geometry_pose_output_port())
     diagram = builder.Build()
     simulator = Simulator(diagram)
     simulator.Initialize()

@@ -19,7 +19,7 @@ from pydrake.systems.framework import DiagramBuilder
 
 from hsr_handover.hsr import CAMERA_FRAME
 from hsr_handover.perception.pinhole import PinholeCamera
-from hsr_handover.station.camera_scene import add_camera_scene
+from hsr_handover.station.camera_scene import add_camera_scene, connect_camera
 from hsr_handover.systems.head_camera import HeadCamera, to_camera_info
 
 
@@ -58,9 +58,5 @@ def add_head_camera(
             render_label,
         ),
     )
-    builder.Connect(plant.get_geometry_pose_output_port(), camera.GetInputPort("frame_poses"))
-    builder.Connect(
-        camera.GetOutputPort("scene_poses"), scene.scene_graph.get_source_pose_port(scene.source)
-    )
-    builder.Connect(scene.scene_graph.get_query_output_port(), camera.GetInputPort("query_object"))
+    connect_camera(builder, scene, camera, plant.get_geometry_pose_output_port())
     return camera

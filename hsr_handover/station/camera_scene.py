@@ -20,7 +20,9 @@ from pydrake.geometry import (
     SceneGraph,
     SourceId,
 )
-from pydrake.systems.framework import DiagramBuilder
+from pydrake.systems.framework import DiagramBuilder, OutputPort
+
+from hsr_handover.systems.head_camera import HeadCamera
 
 
 @dataclasses.dataclass(frozen=True)
@@ -67,3 +69,15 @@ def add_camera_scene(
         else:
             scene_graph.RegisterGeometry(source, copy_of(frame), instance)
     return CameraScene(scene_graph, source, frames)
+
+
+def connect_camera(
+    builder: DiagramBuilder, scene: CameraScene, camera: HeadCamera, world_poses: OutputPort
+) -> None:
+    """Wire `camera` to its scene: the world's frame poses (`world_poses`, the plant's geometry
+    poses) in, the poses it latches out to the scene, and the scene's queries back to it."""
+    builder.Connect(world_poses, camera.GetInputPort("frame_poses"))
+    builder.Connect(
+        camera.GetOutputPort("scene_poses"), scene.scene_graph.get_source_pose_port(scene.source)
+    )
+    builder.Connect(scene.scene_graph.get_query_output_port(), camera.GetInputPort("query_object"))
