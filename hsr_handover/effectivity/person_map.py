@@ -127,9 +127,12 @@ class PersonEffectivity:
         return within & self.cells.reachable(local, self.resolution)
 
 
-def perceived_arm(points: np.ndarray, confidence: np.ndarray, side: str) -> HumanArm | None:
+def perceived_arm(
+    points: np.ndarray, confidence: np.ndarray, side: str, forward: np.ndarray | None = None
+) -> HumanArm | None:
     """The arm on `side` ("r" or "l") from a lifted COCO-18 skeleton (18 x 3, 18), or None
-    without both shoulders."""
+    without both shoulders. `forward`: the way the torso faces (world; the chest's facing voted
+    over frames, `perception.facing`), when known."""
     seen = (np.asarray(confidence) > 0) & np.isfinite(points).all(axis=1)
 
     def at(name: str) -> np.ndarray | None:
@@ -143,7 +146,7 @@ def perceived_arm(points: np.ndarray, confidence: np.ndarray, side: str) -> Huma
     shoulder, elbow, wrist = at(f"{side}_shoulder"), at(f"{side}_elbow"), at(f"{side}_wrist")
     upper = _plausible(shoulder, elbow, UPPER_ARM_PER_HEIGHT * height)
     forearm = _plausible(elbow, wrist, FOREARM_PER_HEIGHT * height)
-    frame = _body_frame(right, left, at("nose"))
+    frame = _body_frame(right, left, at("nose"), forward)
     joint = shoulder - SHOULDER_DEPTH * frame[:, 0]
     return HumanArm(side, joint, frame, upper, forearm, PALM_SHARE * HAND_PER_HEIGHT * height)
 
@@ -156,12 +159,20 @@ def _plausible(a: np.ndarray | None, b: np.ndarray | None, expected: float) -> f
     return length if low * expected <= length <= high * expected else expected
 
 
-def _body_frame(right: np.ndarray, left: np.ndarray, nose: np.ndarray | None) -> np.ndarray:
-    """Columns forward, left, up: left along the shoulders (level), forward square to it on
-    the nose's side (the face is in front of the shoulders)."""
+def _body_frame(
+    right: np.ndarray, left: np.ndarray, nose: np.ndarray | None, facing: np.ndarray | None
+) -> np.ndarray:
+    """Columns forward, left, up: forward the torso's `facing` (levelled) when known; else
+    square to the shoulders' line, on the nose's side (the face is in front of the shoulders).
+    The lifted shoulders turn only a fifth as far as the person (`perception.chest_plane`): a
+    person turned 20 degrees from the camera gets a frame 16 degrees off."""
+    up = np.array([0.0, 0.0, 1.0])
+    level = None if facing is None else np.asarray(facing, dtype=float) * [1.0, 1.0, 0.0]
+    if level is not None and np.isfinite(level).all() and np.linalg.norm(level) > 1e-9:
+        forward = level / np.linalg.norm(level)
+        return np.column_stack([forward, np.cross(up, forward), up])
     across = (left - right) * np.array([1.0, 1.0, 0.0])
     across /= max(np.linalg.norm(across), 1e-9)
-    up = np.array([0.0, 0.0, 1.0])
     forward = np.cross(across, up)
     middle = (left + right) / 2
     if nose is not None and (nose - middle) @ forward < 0:
@@ -175,11 +186,14 @@ RECEIVING_SIDE = "r"
 elbow or wrist is not seen gets the body's proportions (`perceived_arm`)."""
 
 
-def receiving_arm(skeletons: Iterable[Skeleton]) -> HumanArm | None:
+def receiving_arm(
+    skeletons: Iterable[Skeleton], forward: np.ndarray | None = None
+) -> HumanArm | None:
     """The person's receiving arm from the first of `skeletons` (newest first) that shows both
-    shoulders; None if none does."""
+    shoulders, its body frame facing `forward` when known (see `perceived_arm`); None if none
+    shows both."""
     for skeleton in skeletons:
-        arm = perceived_arm(skeleton.points, skeleton.confidence, RECEIVING_SIDE)
+        arm = perceived_arm(skeleton.points, skeleton.confidence, RECEIVING_SIDE, forward)
         if arm is not None:
             return arm
     return None

@@ -12,6 +12,7 @@ from pydrake.systems.framework import Context
 from hsr_handover.effectivity.person_map import HumanArm, receiving_arm
 from hsr_handover.handover.look_round import LOOK_AROUND_PANS, LOOK_DWELL_S
 from hsr_handover.hsr import COMMANDED_JOINTS
+from hsr_handover.perception.facing import steady_facing
 from hsr_handover.perception.skeleton import Skeleton
 from hsr_handover.scenario import Scenario
 from hsr_handover.simulation import Simulation, prepare_simulation, start_replay
@@ -41,8 +42,11 @@ class Watched:
 
     def person_arm(self) -> HumanArm | None:
         """The receiving arm as last seen: now, or else at the latest look-round stop that
-        showed both shoulders (a person beside a moved table can be out of view ahead)."""
-        return receiving_arm((self.percept("skeleton"), *reversed(self.glimpses)))
+        showed both shoulders (a person beside a moved table can be out of view ahead); its
+        frame faces the chest's facing voted over those views."""
+        skeletons = (self.percept("skeleton"), *reversed(self.glimpses))
+        forward = steady_facing(skeleton.torso_forward for skeleton in skeletons)
+        return receiving_arm(skeletons, forward)
 
 
 def watch(

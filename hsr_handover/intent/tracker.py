@@ -41,6 +41,7 @@ from hsr_handover.intent.rays import (
 )
 from hsr_handover.literature import STIEFELHAGEN_HEAD_FRACTION
 from hsr_handover.perception.coco18 import keypoint_index
+from hsr_handover.perception.facing import SteadyFacing
 from hsr_handover.perception.torso_depth import mirrored_shoulder
 
 POINTING_RAYS = ("shoulder_wrist", "elbow_wrist", "eye_wrist")
@@ -62,8 +63,6 @@ TORSO_PAIRS = {
     "left": ((R_SHOULDER, NECK),),
 }
 UP = np.array([0.0, 0.0, 1.0])
-FACING_BIN_DEG = 5.0  # SteadyFacing's heading bins
-FACING_WINDOW_BINS = 3  # either side: a window of 35 degrees around the busiest bin
 
 NO_SKELETON = "no skeleton"
 NO_CANDIDATES = "no objects detected"
@@ -484,38 +483,6 @@ class IntentState:
         return RECOGNISED if self.target is not None else self.frame.status
 
 
-class SteadyFacing:
-    """The horizontal direction seen most often: votes in FACING_BIN_DEG bins of heading, and
-    the mean of the votes within FACING_WINDOW_BINS of the busiest window. A few frames read
-    wrong (a chest fitted on the arm in front of it) are outvoted, not averaged in. Adding
-    returns a new SteadyFacing (the tracker's copies share it)."""
-
-    BINS = int(360 / FACING_BIN_DEG)
-
-    def __init__(self, counts: np.ndarray | None = None, sums: np.ndarray | None = None):
-        self._counts = np.zeros(self.BINS) if counts is None else counts
-        self._sums = np.zeros((self.BINS, 2)) if sums is None else sums
-
-    def add(self, direction: np.ndarray) -> SteadyFacing:
-        heading = math.degrees(math.atan2(direction[1], direction[0]))
-        index = int((heading + 180.0) // FACING_BIN_DEG) % self.BINS
-        counts, sums = self._counts.copy(), self._sums.copy()
-        counts[index] += 1
-        sums[index] += np.asarray(direction[:2], dtype=float)
-        return SteadyFacing(counts, sums)
-
-    def direction(self) -> np.ndarray | None:
-        """The unit vector (x, y, 0) of the busiest window's mean; None before any vote."""
-        if not self._counts.any():
-            return None
-        offsets = range(-FACING_WINDOW_BINS, FACING_WINDOW_BINS + 1)
-        windows = sum(np.roll(self._counts, -offset) for offset in offsets)
-        peak = int(np.argmax(windows))
-        total = sum(self._sums[(peak + offset) % self.BINS] for offset in offsets)
-        length = float(np.linalg.norm(total))
-        return np.array([*(total / length), 0.0]) if length > 1e-9 else None
-
-
 class IntentTracker:
     """The dwell over frames: the first object asked for, with the face confirming it at the
     start and at the end, for `t_max` seconds, is the recognised target (latched)."""
@@ -543,9 +510,8 @@ class IntentTracker:
         direction seen most often while no arm points. The estimated gaze inherits
         (head_gain - 1) of the torso's error, and the shoulders' lifted points turn only a
         fifth as far as the person (see chest_plane)."""
-        if chest is not None and np.isfinite(chest).all():
-            self._chest = self._chest.add(chest)
-        if observation.pointing is None and observation.forward is not None:
+        self._chest = self._chest.add(chest)
+        if observation.pointing is None:
             self._shoulders = self._shoulders.add(observation.forward)
         for facing in (self._chest, self._shoulders):
             forward = facing.direction()

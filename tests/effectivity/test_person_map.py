@@ -154,3 +154,23 @@ def test_the_arm_is_measured_on_the_skeleton_unless_implausible():
     )
     confidence[keypoint_index("l_shoulder")] = 0
     assert perceived_arm(points, confidence, "r") is None
+
+
+def test_the_body_frame_faces_the_torsos_facing_when_it_is_known():
+    """The lifted shoulders turn only a fifth as far as the person: given the way the chest
+    faces, the frame (and the joint behind the keypoint) follows it, levelled, not them."""
+    points, confidence = _skeleton(upper=0.29)  # shoulders square to -x
+    turn = math.radians(20.0)
+    facing = np.array([-math.cos(turn), -math.sin(turn), 0.3])  # a little tilt is levelled
+    arm = perceived_arm(points, confidence, "r", facing)
+    forward = np.array([-math.cos(turn), -math.sin(turn), 0.0])
+    np.testing.assert_allclose(arm.frame[:, 0], forward, atol=1e-12)
+    np.testing.assert_allclose(arm.frame[:, 2], [0.0, 0.0, 1.0])
+    np.testing.assert_allclose(arm.frame.T @ arm.frame, np.eye(3), atol=1e-12)
+    assert np.linalg.det(arm.frame) == pytest.approx(1.0)  # forward, left, up: right-handed
+    keypoint = points[keypoint_index("r_shoulder")]
+    np.testing.assert_allclose(arm.shoulder, keypoint - SHOULDER_DEPTH * forward, atol=1e-12)
+    # Unknown (not seen, or straight up) leaves the shoulders' frame.
+    for unknown in (None, np.full(3, np.nan), np.array([0.0, 0.0, 1.0])):
+        frame = perceived_arm(points, confidence, "r", unknown).frame
+        np.testing.assert_allclose(frame, FACING_MINUS_X, atol=1e-12)

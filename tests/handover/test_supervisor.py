@@ -18,6 +18,7 @@ from hsr_handover.perception.object_detection import DetectionResult
 from hsr_handover.perception.skeleton import Skeleton
 from hsr_handover.planning.perceived_scene import PerceivedScene
 from hsr_handover.systems.handover_supervisor import HandoverSupervisor, _face, _person_point
+from tests.intent.synthetic_person import keypoints
 
 PAN = COMMANDED_JOINTS.index("head_pan_joint")
 OPENING = 0.02
@@ -93,3 +94,24 @@ def test_the_face_is_read_apart_from_the_body():
     np.testing.assert_allclose(_face(skeleton), points[eye])
     assert _person_point(skeleton, None) is None
     assert _face(Skeleton.missing("no person")) is None
+
+
+def test_the_persons_arm_faces_the_way_the_chest_faced_while_it_watched(supervisor):
+    """The receiving arm's frame takes the chest's facing voted over the watch's frames, not
+    the shoulders' line; once the robot acts (its arm may cover the chest) no vote is added."""
+    system, context, _ = supervisor
+    points, confidence = keypoints()  # shoulders square to -x
+    turn = np.radians(15.0)
+    facing = np.array([-np.cos(turn), -np.sin(turn), 0.0])
+    skeleton = Skeleton(np.zeros((18, 2)), points, confidence, torso_forward=facing)
+    system.GetInputPort("skeleton").FixValue(context, skeleton)
+    Simulator(system, context).AdvanceTo(0.55)
+    memory = context.get_abstract_state(0).get_value()
+    np.testing.assert_allclose(memory.arm.frame[:, 0], facing, atol=1e-9)
+    memory.cycle.cycle.phase = Phase.APPROACH  # acting: the chest may read the robot's arm
+    wrong = Skeleton(np.zeros((18, 2)), points, confidence, torso_forward=np.array([0, 1.0, 0]))
+    system.GetInputPort("skeleton").FixValue(context, wrong)
+    Simulator(system, context).AdvanceTo(1.55)
+    memory = context.get_abstract_state(0).get_value()
+    np.testing.assert_allclose(memory.facing.direction(), facing, atol=1e-9)
+    np.testing.assert_allclose(memory.arm.frame[:, 0], facing, atol=1e-9)

@@ -25,7 +25,6 @@ from hsr_handover.intent.tracker import (
     RECOGNISED,
     Observation,
     RaySmoother,
-    SteadyFacing,
     bearing_errors_deg,
     gaze_ray,
     judge,
@@ -35,6 +34,7 @@ from hsr_handover.intent.tracker import (
     torso_forward,
 )
 from hsr_handover.perception.coco18 import keypoint_index
+from hsr_handover.perception.facing import SteadyFacing
 from tests.intent.synthetic_person import BODY, CUPS, keypoints, to_person
 
 

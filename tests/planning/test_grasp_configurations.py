@@ -16,12 +16,17 @@ from hsr_handover.effectivity.person_map import HumanArm, PersonEffectivity
 from hsr_handover.hsr import BASE_JOINTS, FINGER_PER_OPENING, GRIPPER_JOINT, PALM_FRAME
 from hsr_handover.perception.object_shapes import BOX, CYLINDER, ObjectShape
 from hsr_handover.perception.table_fit import TableEstimate
-from hsr_handover.planning import base_placement, grasps, planner
+from hsr_handover.planning import base_placement, grasps, handover_pose, planner
 from hsr_handover.planning import grasp_configurations as configurations
 from hsr_handover.planning.grasp_configurations import UNREACHABLE, grasp_configurations
 from hsr_handover.planning.grasps import GRIP_CLEARANCE, LIFT_HEIGHT, PAD_OFFSET
 from hsr_handover.planning.handover_pose import NO_MUTUAL_AREA, plan_handover_pose
-from hsr_handover.planning.inverse_kinematics import MIN_DISTANCE, PalmGoal, solve_palm_ik
+from hsr_handover.planning.inverse_kinematics import (
+    MIN_DISTANCE,
+    IkResult,
+    PalmGoal,
+    solve_palm_ik,
+)
 from hsr_handover.planning.perceived_scene import Capsule, PerceivedScene
 from hsr_handover.planning.planner import (
     STAGES,
@@ -216,6 +221,32 @@ def test_the_handover_pose_meets_the_person_at_a_mutual_node(scene, arm_map):
     # The table is in front of the seated person: the robot comes round it to their side.
     base = pose.q[[scene.index(joint) for joint in BASE_JOINTS]]
     assert base[0] > 0.845 + 0.3 and abs(base[1]) > 0.3, base
+
+
+def test_an_ik_failing_from_the_aims_placement_is_tried_from_the_points_own(
+    scene, arm_map, monkeypatch
+):
+    """The mutual node nearest the aim can lie 10 cm from it; seeded for the aim, the solver
+    may run out of iterations short of the node (the demo, session 22). The pose is then
+    sought from a base placed for the node itself, before any aim turned to the side."""
+    shoulder = np.array([1.75, 0.19, 1.03])
+    frame = np.column_stack([[-1.0, 0, 0], [0, -1.0, 0], [0, 0, 1.0]])
+    person = PersonEffectivity(HumanArm("r", shoulder, frame, 0.30, 0.25, 0.09))
+    seeds, goals, real = [], [], handover_pose.solve_palm_ik
+
+    def first_runs_out(scene, goal, seed, ignore=()):
+        seeds.append(np.array(seed))
+        goals.append(goal)
+        if len(seeds) == 1:
+            return IkResult(False, np.array(seed), "no IK solution (SNOPT kIterationLimit)", 0.0)
+        return real(scene, goal, seed, ignore=ignore)
+
+    monkeypatch.setattr(handover_pose, "solve_palm_ik", first_runs_out)
+    pose = plan_handover_pose(scene, arm_map, person, _ready(scene))
+    assert pose.ok, pose.reason
+    assert len(seeds) == 2 and not np.allclose(seeds[0], seeds[1])
+    assert goals[1] is goals[0]  # the same node, the same approach
+    np.testing.assert_allclose(pose.ideal, mutual_area.handover_aims(person.arm)[0])
 
 
 def test_a_person_standing_behind_a_wide_table_is_handed_to_from_the_side(arm_map, monkeypatch):
