@@ -34,7 +34,6 @@ from hsr_handover.intent.tracker import (
     torso_forward,
 )
 from hsr_handover.perception.coco18 import keypoint_index
-from hsr_handover.perception.facing import SteadyFacing
 from tests.intent.synthetic_person import BODY, CUPS, keypoints, to_person
 
 
@@ -384,23 +383,6 @@ def test_the_torso_direction_is_the_mean_of_the_resting_frames():
         tracker.update(time, jittered, confidence, CUPS)
     steady = tracker._steady_forward(Observation(), None)
     np.testing.assert_allclose(steady.forward, [-1.0, 0.0, 0.0], atol=1e-9)
-
-
-def _heading(deg: float) -> np.ndarray:
-    return np.array([math.cos(math.radians(deg)), math.sin(math.radians(deg)), 0.0])
-
-
-def test_the_steady_facing_is_the_mean_of_the_busiest_window_and_outvotes_the_rest():
-    facing = SteadyFacing()
-    assert facing.direction() is None
-    for deg in (-3.0, 3.0, -3.0, 3.0, 91.0, 95.0, 179.0):  # two frames fitted on an arm
-        facing = facing.add(_heading(deg))
-    np.testing.assert_allclose(facing.direction(), [1.0, 0.0, 0.0], atol=1e-12)
-    before = facing.direction()
-    facing.add(_heading(90.0))  # adding makes a new facing; this one is unchanged
-    np.testing.assert_array_equal(facing.direction(), before)
-    across_the_seam = SteadyFacing().add(_heading(178.0)).add(_heading(-178.0))
-    np.testing.assert_allclose(across_the_seam.direction(), [-1.0, 0.0, 0.0], atol=1e-12)
 
 
 def test_the_chests_facing_outranks_the_shoulders():
