@@ -3,9 +3,8 @@
 Inputs, all percepts: `hsr_state_measured` and `gripper_opening_measured` (the joint sensors),
 `hsr_wrist_wrench_measured` (the wrist's force-torque sensor),
 `intent` (the IntentEstimator's state), `perceived_scene`, `skeleton` (lifted) and
-`detections`. Every TICK_S (TICK_DELAY_S after a capture) it looks round first (the head panned
-to the table's ends), then steps the `HandoverCycle` on what it perceives; the cycle plans
-through a `PerceivedPlanner`.
+`detections`. Every TICK_S it looks round first (the head panned to the table's ends), then
+steps the `HandoverCycle` on what it perceives; the cycle plans through a `PerceivedPlanner`.
 Outputs: `hsr_desired_state` ([q; v] of COMMANDED_JOINTS: the motion under way, else where it
 stands; the ready posture before any), `gripper_desired_opening`, `cycle` (the record),
 `plan_view` (PlanView: what the plans show in the replay) and `watching` (1 while the cycle
@@ -32,14 +31,9 @@ from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY, HEAD_JOINTS
 from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.perception.facing import SteadyFacing
 from hsr_handover.planning.perceived_scene import PerceivedScene
-from hsr_handover.systems.frame_timing import PROCESSING_DELAY_S
 from hsr_handover.systems.watching import WATCHING
 
 TICK_S = 0.1  # s between the supervisor's decisions
-TICK_DELAY_S = 3 * PROCESSING_DELAY_S
-"""s after a camera capture (one every third frame at 30 Hz): each decision reads the frame just
-captured, once the intent estimator has judged it (`frame_timing`), not the one before. The
-table estimator reads the same frames, so none is rendered for it alone."""
 PAN, TILT = (COMMANDED_JOINTS.index(joint) for joint in HEAD_JOINTS)
 
 
@@ -92,7 +86,7 @@ class HandoverSupervisor(LeafSystem):
             WATCHING, 1, self._calc_watching,
             prerequisites_of_calc={self.abstract_state_ticket(self._memory)},
         )  # fmt: skip
-        self.DeclarePeriodicUnrestrictedUpdateEvent(TICK_S, TICK_DELAY_S, self._tick)
+        self.DeclarePeriodicUnrestrictedUpdateEvent(TICK_S, 0.0, self._tick)
 
     def _memory_of(self, context: Context) -> _Memory:
         return context.get_abstract_state(self._memory).get_value()
