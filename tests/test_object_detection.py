@@ -20,6 +20,7 @@ from hsr_handover.perception.object_detection import (
     DetectorSettings,
     detect_objects,
 )
+from hsr_handover.perception.object_shapes import CYLINDER, fit_shape, object_points
 from hsr_handover.perception.pinhole import PinholeCamera
 from hsr_handover.scenario import load_scenario
 from hsr_handover.simulation import add_station_and_robot
@@ -317,3 +318,30 @@ def rendered_scene(request):
 def test_rendered_scene_every_object_once_within_target_and_nothing_else(rendered_scene):
     result, truth = rendered_scene
     _assert_centers(result, truth)
+
+
+def test_a_hand_in_front_of_a_cup_stays_out_of_its_shape():
+    """A skin-coloured hand over two thirds of the cup's front, the cup showing round it, lies
+    inside the cup's box: the shape is measured on the cup's own pixels (its blob), not
+    the box's (the reference's trial 38, session 22: a 7 cm cup read as a 16 cm box)."""
+    cup = CUPS[0]
+    X_WC = camera_pose()
+    rgb, depth, silhouettes = render(CAMERA, X_WC, (cup,))
+    rows, columns = np.nonzero(silhouettes[cup.color])
+    middle, right = (rows.min() + rows.max()) // 2, columns.max()
+    hand = np.s_[middle - 10 : middle + 10, columns.min() - 12 : (columns.min() + 2 * right) // 3]
+    rgb[hand] = np.round(np.array(SKIN) * 255).astype(np.uint8)
+    depth[hand] = np.minimum(depth[hand], depth[middle, (columns.min() + right) // 2] - 0.03)
+    (detection,) = detect_objects(rgb, depth, CAMERA, X_WC).detections
+    assert detection.blob is not None and detection.blob.shape == (
+        detection.box[3] - detection.box[1] + 1,
+        detection.box[2] - detection.box[0] + 1,
+    )
+    own = fit_shape(cup.color, object_points(detection, depth, CAMERA, X_WC, TABLE_HEIGHT),
+                    TABLE_HEIGHT)  # fmt: skip
+    assert own.kind == CYLINDER and own.radius < cup.radius + 0.01
+    np.testing.assert_allclose(own.center, cup.center[:2], atol=0.015)
+    whole_box = dataclasses.replace(detection, blob=None)
+    merged = fit_shape(cup.color, object_points(whole_box, depth, CAMERA, X_WC, TABLE_HEIGHT),
+                       TABLE_HEIGHT)  # fmt: skip
+    assert merged.radius > own.radius + 0.005  # the hand, within the box, joins the footprint

@@ -33,9 +33,11 @@ _MIN_PALETTE_SATURATION = 64  # of 255: the hue of a greyer colour is too unstab
 @dataclasses.dataclass(frozen=True, eq=False)
 class Detection:
     """One coloured blob: its box (u_min, v_min, u_max, v_max), inclusive pixel indices, the box's
-    centre pixel (u, v), the 3-D centre in the world (NaN when the blob has no valid depth) and
-    the number of the blob's pixels. `label` is the colour name, with "#2", "#3", ... appended
-    for the second, third, ... largest blob of a colour that shows more than once."""
+    centre pixel (u, v), the 3-D centre in the world (NaN when the blob has no valid depth),
+    the number of the blob's pixels and which pixels of the box they are (`blob`, bool, the
+    box's shape; None when not known, as for detections made elsewhere). `label` is the
+    colour name, with "#2", "#3", ... appended for the second, third, ... largest blob of a
+    colour that shows more than once."""
 
     label: str
     color: str
@@ -43,6 +45,7 @@ class Detection:
     center_pixel: tuple[float, float]
     center: np.ndarray
     pixel_count: int
+    blob: np.ndarray | None = dataclasses.field(default=None, repr=False)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -258,7 +261,8 @@ def _detection(
     visible_width = u_max - u_min + 1
     center = _object_center(camera, X_WC, center_pixel, surface_depth, visible_width)
     center.setflags(write=False)
-    return Detection(label, color, box, center_pixel, center, int(np.count_nonzero(blob)))
+    blob.setflags(write=False)
+    return Detection(label, color, box, center_pixel, center, int(np.count_nonzero(blob)), blob)
 
 
 def _surface_depth(box_depth: np.ndarray, blob: np.ndarray) -> float:

@@ -59,12 +59,18 @@ def object_points(
     detection: Detection, depth: np.ndarray, camera: PinholeCamera, X_WC: np.ndarray,
     table_height: float,
 ) -> np.ndarray:  # fmt: skip
-    """The world points (N, 3) of the detection's box in the depth image (H, W) (m) of the same
-    capture that stand above the table's top and near the detection's centre."""
+    """The world points (N, 3) of the detection's own pixels (its blob; its whole box when the
+    blob is not known) in the depth image (H, W) (m) of the same capture that stand above the
+    table's top and near the detection's centre. Only the object's own colour: over the whole
+    box, a hand in front of a cup and beside it joined its footprint (the reference's trial 38,
+    session 22: a 7 cm cup read as a 16 cm box, and the gripper closed on nothing)."""
     depth = checked_depth(depth, camera)
     u0, v0, u1, v1 = detection.box
     window = depth[v0 : v1 + 1, u0 : u1 + 1]
-    v, u = np.nonzero(np.isfinite(window) & (window > 0))
+    own = np.isfinite(window) & (window > 0)
+    if detection.blob is not None and detection.blob.shape == window.shape:
+        own &= detection.blob
+    v, u = np.nonzero(own)
     pixels = np.column_stack([u + u0, v + v0]).astype(float)
     points = camera.deproject(pixels, window[v, u], X_WC)
     near = np.hypot(*(points[:, :2] - detection.center[:2]).T) <= MAX_OBJECT_RADIUS
