@@ -4,8 +4,8 @@ acts): the perception that serves only the watch rests while the robot acts.
 The scene map feeds only the intent estimator (through the detections' cross-check), and the
 supervisor reads the intent only until it has a target; the planner works from detections, the
 table and the skeleton, which it reads at its own ticks. Resting the two leaves every decision
-as it was, and the camera renders only the frames something still reads (a third of a handover
-trial's frames are read while the robot acts, against all of them).
+as it was, and the camera renders only the frames something still reads: while the robot acts,
+the supervisor's frames (one in three) and the table fit's (one in six), against all of them.
 """
 
 from __future__ import annotations
