@@ -16,7 +16,7 @@ from pydrake.geometry import (
     RenderEngineVtkParams,
 )
 from pydrake.math import RigidTransform, RollPitchYaw
-from pydrake.multibody.plant import AddMultibodyPlantSceneGraph, CoulombFriction
+from pydrake.multibody.plant import AddMultibodyPlantSceneGraph
 from pydrake.multibody.tree import FixedOffsetFrame, PrismaticJoint, SpatialInertia
 from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import DiagramBuilder
@@ -32,7 +32,6 @@ X_PC = RigidTransform(RollPitchYaw(-np.pi / 2, 0, -np.pi / 2), [0, 0, 0])  # loo
 def _box_body(plant, name: str, size, color):
     body = plant.AddRigidBody(name, SpatialInertia.SolidBoxWithMass(1.0, *size))
     plant.RegisterVisualGeometry(body, RigidTransform(), Box(*size), name, color)
-    plant.RegisterCollisionGeometry(body, RigidTransform(), Box(*size), name, CoulombFriction())
     return body
 
 

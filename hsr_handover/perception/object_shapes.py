@@ -68,7 +68,7 @@ def object_points(
     u0, v0, u1, v1 = detection.box
     window = depth[v0 : v1 + 1, u0 : u1 + 1]
     own = np.isfinite(window) & (window > 0)
-    if detection.blob is not None and detection.blob.shape == window.shape:
+    if detection.blob is not None:
         own &= detection.blob
     v, u = np.nonzero(own)
     pixels = np.column_stack([u + u0, v + v0]).astype(float)

@@ -115,14 +115,14 @@ def plan_handover_pose(
                 continue
             opening = 2 * q_now[scene.index(GRIPPER_JOINT)]
             goal = PalmGoal(point, approach, closing, opening)
-            result = _palm_ik(scene, arm_map, goal, placement.q, q_now, ignore)
+            result = _ik_at_point(scene, arm_map, goal, placement.q, q_now, ignore)
             if result.ok:
                 return HandoverPose(True, "ok", aim, point, result.q, robot_nodes, mutual)
             reason = f"unreachable: {result.reason} at the handover point"
     return HandoverPose(False, reason, aims[0])
 
 
-def _palm_ik(scene, arm_map, goal: PalmGoal, seed: np.ndarray, q_now: np.ndarray, ignore):
+def _ik_at_point(scene, arm_map, goal: PalmGoal, seed: np.ndarray, q_now: np.ndarray, ignore):
     """IK for the hand at `goal` from `seed` (placed for the aim); failing that, from a base
     placed for the goal's own point: the mutual node nearest the aim can lie 10 cm from it,
     and seeded for the aim the solver may run out of iterations short of it."""

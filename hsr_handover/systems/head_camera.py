@@ -69,6 +69,7 @@ class HeadCamera(LeafSystem):
         self._color_camera, self._depth_camera = color_camera, depth_camera
         self._parent, self._X_PC, self._render_label = parent_frame, X_PC, render_label
         self._frames = dict(frames)
+        self._scene_parent = self._frames[parent_frame]  # the mount's copy, rendered from
         self._query_port = self.DeclareAbstractInputPort(
             "query_object", AbstractValue.Make(QueryObject())
         )
@@ -126,7 +127,7 @@ class HeadCamera(LeafSystem):
             state.get_mutable_abstract_state(self._states[name]).set_value(value)
 
     def _query(self, context: Context) -> tuple[QueryObject, FrameId]:
-        return self._query_port.Eval(context), self._frames[self._parent]
+        return self._query_port.Eval(context), self._scene_parent
 
     def _render_color(self, context: Context, output: AbstractValue) -> None:
         query, parent = self._query(context)
