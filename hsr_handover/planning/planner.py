@@ -11,7 +11,9 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import math
 import time
+from typing import NamedTuple
 
 import numpy as np
 from pydrake.math import BsplineBasis
@@ -37,6 +39,8 @@ from hsr_handover.planning.trajectory import (
     CONTROL_POINTS,
     STOWED,
     StartContact,
+    Target,
+    approached_target,
     optimize_path,
     route_guess,
     start_contact,
@@ -77,6 +81,17 @@ class Motion:
     name: str
     ignore: tuple[str, ...]
     timed: TimedPath
+
+
+class Leg(NamedTuple):
+    """A path to plan: its `name`, the obstacles it may touch (`ignore`), its ends, and the one
+    of them it closes the hand on (`target`, kept as far as the end keeps it: `Target`)."""
+
+    name: str
+    ignore: tuple[str, ...]
+    q_from: np.ndarray
+    q_to: np.ndarray
+    target: str = ""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -146,9 +161,9 @@ def plan_grasp(
     # planned opening gradually had the open fingers cut 2 cm into the table (the standing
     # layout's trial 7, seed 1).
     opened = _fingers_as(scene, q_now, found.q_pregrasp)
-    legs = (("move", (), opened, found.q_pregrasp),
-            ("approach", (label,), found.q_pregrasp, found.q_grasp),
-            ("lift", (label,), closed, found.q_lifted))  # fmt: skip
+    legs = (Leg("move", (), opened, found.q_pregrasp),
+            Leg("approach", (label,), found.q_pregrasp, found.q_grasp, target=label),
+            Leg("lift", (label,), closed, found.q_lifted))  # fmt: skip
     plan = _plan_legs(scene, label, legs, limits, seconds, found.ik_solves)
     if not plan.ok:
         return plan
@@ -197,17 +212,17 @@ def plan_retreat(
     if held is None:
         ignore = (released,) if released else ()
         q_stowed = _stowed(scene, q_now, ignore)
-        legs = ((RETREAT, ignore, q_now, q_stowed),)
+        legs = (Leg(RETREAT, ignore, q_now, q_stowed),)
         q_back = _backed_off(scene, q_now, (PERSON, *ignore))
         if q_back is not None:
             legs = (
-                (BACK_OFF, (PERSON, *ignore), q_now, q_back),
-                (RETREAT, ignore, q_back, q_stowed),
+                Leg(BACK_OFF, (PERSON, *ignore), q_now, q_back),
+                Leg(RETREAT, ignore, q_back, q_stowed),
             )
         return _plan_legs(scene, RETREAT, legs, limits, seconds, 0)
     with holding(scene, held, q_now):
         q_stowed = _stowed(scene, q_now, (held.label,), STOWED | STOWED_HOLDING)
-        leg = (RETREAT, (held.label,), q_now, q_stowed)
+        leg = Leg(RETREAT, (held.label,), q_now, q_stowed)
         return _plan_legs(scene, RETREAT, (leg,), limits, seconds, 0)
 
 
@@ -255,17 +270,18 @@ def _plan_handover(scene, arm_map, person, q_now, limits, ignore: tuple[str, ...
     seconds = dict.fromkeys(STAGES, 0.0) | {"ik": time.perf_counter() - start}
     if not pose.ok:
         return Plan(False, pose.reason, HANDOVER, seconds=seconds)
-    leg = ("carry", ignore, q_now, pose.q)
+    leg = Leg("carry", ignore, q_now, pose.q)
     plan = _plan_legs(scene, HANDOVER, (leg,), limits, seconds, 1)
     return dataclasses.replace(plan, pose=pose) if plan.ok else plan
 
 
-def _plan_legs(scene, target, legs, limits, seconds, ik_solves) -> Plan:
-    """Path and timing for each (name, ignore, q_from, q_to) leg in turn."""
+def _plan_legs(scene, target, legs: tuple[Leg, ...], limits, seconds, ik_solves) -> Plan:
+    """Path and timing for each leg in turn."""
     motions = []
-    for name, ignore, q_from, q_to in legs:
+    for name, ignore, q_from, q_to, closes_on in legs:
         start = time.perf_counter()
-        path, reason = _path(scene, q_from, q_to, ignore, straight=name in STRAIGHT_LEGS)
+        approached = approached_target(scene, q_to, closes_on) if closes_on else None
+        path, reason = _path(scene, q_from, q_to, ignore, name in STRAIGHT_LEGS, approached)
         seconds["optimisation"] += time.perf_counter() - start
         if path is None:
             return Plan(False, f"{name}: {reason}", target, seconds=seconds, ik_solves=ik_solves)
@@ -279,32 +295,33 @@ def _plan_legs(scene, target, legs, limits, seconds, ik_solves) -> Plan:
     return Plan(True, "ok", target, tuple(motions), seconds, ik_solves, legs[-1][3])
 
 
-def _path(scene, q_from, q_to, ignore, straight: bool):
-    """A straight line when asked for and clear, else an optimised path from the guesses in
-    turn (`_guesses`); (None, why) if none."""
+def _path(scene, q_from, q_to, ignore, straight: bool, target: Target | None = None):
+    """A straight line when asked for and clear (of the `target` by its bound), else an
+    optimised path from the guesses in turn (`_guesses`); (None, why) if none."""
     if straight:
         line = BsplineTrajectory(BsplineBasis(4, CONTROL_POINTS), straight_guess(q_from, q_to))
-        if path_clearances(scene, line, ignore, COLLISION_SAMPLES).min() >= COLLISION_BOUND:
+        if path_dips(scene, line, ignore, StartContact(), COLLISION_SAMPLES, target).max() <= 0:
             return line, "ok"
     reasons = []
     for name, guess in _guesses(scene, q_from, q_to):
-        path, reason = _verified_path(scene, q_from, q_to, guess, ignore)
+        path, reason = _verified_path(scene, q_from, q_to, guess, ignore, target)
         if path is not None:
             return path, reason
         reasons.append(f"{name}: {reason}")
     return None, "; ".join(reasons)
 
 
-def _verified_path(scene, q_from, q_to, guess, ignore):
+def _verified_path(scene, q_from, q_to, guess, ignore, target: Target | None):
     """An optimised path from `guess` that comes no more than DIP_ALLOWANCE inside its
     samples' bounds between them too, its samples doubled while it does (up to MAX_SAMPLES);
     (None, why) if none."""
     samples, contact = COLLISION_SAMPLES, start_contact(scene, q_from, ignore)
     while True:
-        result = optimize_path(scene, q_from, q_to, guess, ignore, samples)
+        result = optimize_path(scene, q_from, q_to, guess, ignore, samples, target)
         if not result.ok:
             return None, result.reason
-        dips = path_dips(scene, result.path, ignore, contact, VERIFY_PER_SAMPLE * samples)
+        dips = path_dips(scene, result.path, ignore, contact, VERIFY_PER_SAMPLE * samples,
+                         target)  # fmt: skip
         if dips.max() <= DIP_ALLOWANCE:
             return result.path, result.reason
         if samples * 2 > MAX_SAMPLES:
@@ -336,15 +353,28 @@ def path_clearances(
 
 
 def path_dips(
-    scene: PlanningScene, path, ignore: tuple[str, ...], contact: StartContact, samples: int
+    scene: PlanningScene,
+    path,
+    ignore: tuple[str, ...],
+    contact: StartContact,
+    samples: int,
+    target: Target | None = None,
 ) -> np.ndarray:
     """How far (m) a path (`value(t)`, `start_time()`, `end_time()`) from a start touching
-    `contact` comes inside its bounds (StartContact.bound, by obstacle) at `samples` evenly
-    spaced times; negative where it keeps clear of them all."""
+    `contact` comes inside its bounds (StartContact.bound, by obstacle; the `target`'s own,
+    though it is one of `ignore`) at `samples` evenly spaced times; negative where it keeps
+    clear of them all."""
+    name = "" if target is None else target.name
+    seen = tuple(other for other in ignore if other != name)
     times = np.linspace(path.start_time(), path.end_time(), samples)
     spots = np.linspace(0.0, 1.0, samples)
-    return np.array([contact.dip(scene.clearances_at(path.value(t).ravel(), ignore), spot)
-                     for t, spot in zip(times, spots, strict=True)])  # fmt: skip
+    dips = []
+    for t, spot in zip(times, spots, strict=True):
+        clearances = scene.clearances_at(path.value(t).ravel(), seen)
+        to_target = clearances.pop(name, math.inf)
+        dip = contact.dip(clearances, spot)
+        dips.append(dip if target is None else max(dip, target.bound - to_target))
+    return np.array(dips)
 
 
 def timed_clearance(scene: PlanningScene, motion: Motion, step: float = CHECK_STEP) -> float:

@@ -16,6 +16,9 @@ obstacles as the start was, less ESCAPE_SLACK (`StartContact`). Every other obst
 bound all the way: a start in contact with one never licenses touching another (session 13's
 carry started 7 cm inside the held box's second detection and, under one allowance for every
 obstacle, passed the box 7 cm through a neighbouring cup).
+
+A grasp's approach may touch the object it closes on, but only as its goal does (`Target`): no
+nearer to it anywhere on the way than the pads straddling it at the end.
 """
 
 from __future__ import annotations
@@ -81,6 +84,25 @@ class StartContact:
         return max(dips, default=-math.inf)
 
 
+@dataclasses.dataclass(frozen=True)
+class Target:
+    """The obstacle `name` that a path's goal closes the hand on (left out of the obstacles to
+    keep COLLISION_BOUND from) and the least distance (m) kept from it all the way, `bound`:
+    the goal's own, where the pads straddle it, less ESCAPE_SLACK, and no more than
+    COLLISION_BOUND. Left out altogether, an approach that the optimiser bent round a
+    neighbour swept a pad 5 cm through the box it was going to grasp, and knocked it over
+    (the standing layout's trial 1, seed 2)."""
+
+    name: str
+    bound: float
+
+
+def approached_target(scene: PlanningScene, q_goal: np.ndarray, name: str) -> Target:
+    """The `Target` for a path to `q_goal` that closes the hand on the obstacle `name`."""
+    at_goal = scene.clearances_at(q_goal).get(name, math.inf)
+    return Target(name, min(COLLISION_BOUND, at_goal - ESCAPE_SLACK))
+
+
 def start_contact(
     scene: PlanningScene, q_start: np.ndarray, ignore: tuple[str, ...] = ()
 ) -> StartContact:
@@ -131,17 +153,22 @@ def optimize_path(
     guess: np.ndarray | None = None,
     ignore: tuple[str, ...] = (),
     samples: int = COLLISION_SAMPLES,
+    target: Target | None = None,
 ) -> PathResult:
     """The path from `q_start` to `q_goal` (plant positions), starting from the control points
     `guess` (nq, any count; the straight line through CONTROL_POINTS when None), kept clear at
-    `samples` evenly spaced points. Never raises for an infeasible problem: `ok` is False and
-    `reason` says why."""
+    `samples` evenly spaced points, and of the `target` (one of `ignore`) by its bound. Never
+    raises for an infeasible problem: `ok` is False and `reason` says why."""
     start = time.perf_counter()
     guess = straight_guess(q_start, q_goal) if guess is None else guess
     contact = start_contact(scene, q_start, ignore)
+    # A context that sees the target alone, made before the target is ignored with the rest.
+    alone = scene.ignoring_context(_all_but(scene, target.name)) if target is not None else None
     with scene.ignoring(ignore):
         trajopt = _build(scene, q_start, q_goal, guess.shape[1])
         constraints = _keep_clear(trajopt, scene, contact, samples)
+        if target is not None:
+            constraints += [*alone, _keep_clear_of(trajopt, scene, target, alone[1], samples)]
         trajopt.SetInitialGuess(BsplineTrajectory(trajopt.basis(), guess * 1.0))
         result = solve(trajopt.prog())
         usable = solved(trajopt.prog(), result)
@@ -186,6 +213,20 @@ def _build(
         prog.AddBoundingBoxConstraint(q_start[held], q_start[held], points[held, j])
         prog.AddBoundingBoxConstraint(low, high, points[fingers, j])
     return trajopt
+
+
+def _all_but(scene: PlanningScene, name: str) -> list[str]:
+    """The scene's obstacles other than `name`."""
+    return [other for other in scene.geometry if other not in (name, HELD)]
+
+
+def _keep_clear_of(trajopt, scene: PlanningScene, target: Target, context, samples: int):
+    """Keep the path at `samples` evenly spaced points `target.bound` from the target, which
+    alone the plant `context` sees; the constraint, to keep alive through the solve."""
+    bound = MinimumDistanceLowerBoundConstraint(scene.plant, target.bound, context, None, INFLUENCE)
+    for spot in np.linspace(0.0, 1.0, samples):
+        trajopt.AddPathPositionConstraint(bound, spot)
+    return bound
 
 
 def _keep_clear(trajopt, scene: PlanningScene, contact: StartContact, samples: int) -> list:
