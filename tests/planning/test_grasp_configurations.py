@@ -29,6 +29,7 @@ from hsr_handover.planning.inverse_kinematics import (
 )
 from hsr_handover.planning.perceived_scene import Capsule, PerceivedScene
 from hsr_handover.planning.planner import (
+    DIP_ALLOWANCE,
     STAGES,
     path_clearances,
     plan_grasp,
@@ -41,6 +42,7 @@ from hsr_handover.planning.trajectory import (
     COLLISION_BOUND,
     ESCAPE_SLACK,
     STOWED,
+    approached_target,
     optimize_path,
 )
 
@@ -285,6 +287,11 @@ def test_a_grasp_plan_is_timed_and_clear_every_10_ms(scene, arm_map):
     assert 1.0 < plan.duration < 15.0
     for motion in plan.motions:
         assert timed_clearance(scene, motion) >= COLLISION_BOUND - 0.012
+    # The approach may touch the cup only as its end does.
+    _, approaching = plan.motions[1].timed.sample(0.01)
+    bound = approached_target(scene, approaching[-1], "blue").bound
+    to_cup = [scene.clearances_at(q).get("blue", np.inf) for q in approaching]
+    assert min(to_cup) >= bound - DIP_ALLOWANCE
     # The gripper opens as the robot sets off: the move is planned open from its start, as
     # wide as the grasp's opening, and no path moves the fingers on its own.
     finger = scene.index(GRIPPER_JOINT)
