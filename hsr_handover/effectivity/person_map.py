@@ -11,8 +11,7 @@ ranges, rounded inward (AAOS: shoulder flexion 180, extension 60, abduction 180,
 
 Lengths: the lifted skeleton's upper arm and forearm, unless one is implausible (a keypoint
 lifted onto an occluding surface can be 20 cm off, see tests/test_perception_station.py); then
-the segment-length ratios of Drillis and Contini (1966) from the shoulders' width. Over many
-frames, each length is the median of the frames' (`SteadyLengths`).
+the segment-length ratios of Drillis and Contini (1966) from the shoulders' width.
 """
 
 from __future__ import annotations
@@ -185,36 +184,6 @@ def _body_frame(
 RECEIVING_SIDE = "r"
 """The person takes the object with the right arm (most people are right-handed); an arm whose
 elbow or wrist is not seen gets the body's proportions (`perceived_arm`)."""
-
-
-LENGTH_VOTES = 150  # frames (15 s at the supervisor's 10 Hz) SteadyLengths keeps
-
-
-@dataclasses.dataclass(frozen=True)
-class SteadyLengths:
-    """An arm's segment lengths voted over frames: each the median of the last LENGTH_VOTES
-    arms added. One frame's lengths move with where its elbow's and wrist's pixels lift to:
-    the demo's person reached 0.569 m in one frame and 0.626 m in the next, which moved the
-    handover's aim by 4 cm. Adding returns a new SteadyLengths (the supervisor's copies share
-    it)."""
-
-    votes: tuple[tuple[float, float, float], ...] = ()
-
-    def add(self, arm: HumanArm | None) -> SteadyLengths:
-        """With `arm`'s lengths as one more vote; None adds none."""
-        if arm is None:
-            return self
-        vote = (arm.upper, arm.forearm, arm.hand)
-        return SteadyLengths((*self.votes[1 - LENGTH_VOTES :], vote))
-
-    def steady(self, arm: HumanArm | None) -> HumanArm | None:
-        """`arm` (its shoulder and frame as they are) with the median lengths; as it is before
-        any vote."""
-        if arm is None or not self.votes:
-            return arm
-        upper, forearm, hand = np.median(self.votes, axis=0)
-        return dataclasses.replace(arm, upper=float(upper), forearm=float(forearm),
-                                   hand=float(hand))  # fmt: skip
 
 
 def receiving_arm(

@@ -21,12 +21,7 @@ from pydrake.common.value import AbstractValue
 from pydrake.systems.framework import BasicVector, Context, LeafSystem, State
 
 from hsr_handover.effectivity.arm_map import ArmEffectivity
-from hsr_handover.effectivity.person_map import (
-    RECEIVING_SIDE,
-    HumanArm,
-    SteadyLengths,
-    receiving_arm,
-)
+from hsr_handover.effectivity.person_map import RECEIVING_SIDE, HumanArm, receiving_arm
 from hsr_handover.handover.cycle import Cycle, HandoverCycle, Percepts, Phase
 from hsr_handover.handover.gaze import look_at
 from hsr_handover.handover.look_round import LOOK_ROUND_S, look_round_pan
@@ -45,14 +40,13 @@ PAN, TILT = (COMMANDED_JOINTS.index(joint) for joint in HEAD_JOINTS)
 @dataclasses.dataclass
 class _Memory:
     """What the supervisor carries between ticks: the cycle, the person's arm as last seen
-    with both shoulders, the way their torso faces and their arm's lengths (voted over the
-    watch's frames: later, the robot's own arm comes between the camera and the person), the
-    head's aim, and the scene with what is out of view remembered."""
+    with both shoulders, the way their torso faces (voted over the watch's frames: later, the
+    robot's own arm comes between the camera and the chest), the head's aim, and the scene
+    with what is out of view remembered."""
 
     cycle: HandoverCycle
     arm: HumanArm | None = None
     facing: SteadyFacing = dataclasses.field(default_factory=SteadyFacing)
-    lengths: SteadyLengths = SteadyLengths()
     head: tuple[float, float] | None = None  # (pan, tilt) rad while the cycle looks at a point
     scene: PerceivedScene | None = None
 
@@ -100,13 +94,9 @@ class HandoverSupervisor(LeafSystem):
     def _tick(self, context: Context, state: State) -> None:
         memory: _Memory = state.get_mutable_abstract_state(self._memory).get_value()
         skeleton = self._skeleton.Eval(context)
-        watching = memory.cycle.cycle.phase is Phase.WATCH
-        if watching:
+        if memory.cycle.cycle.phase is Phase.WATCH:
             memory.facing = memory.facing.add(skeleton.torso_forward)
         arm = receiving_arm([skeleton], memory.facing.direction())
-        if watching:
-            memory.lengths = memory.lengths.add(arm)
-        arm = memory.lengths.steady(arm)
         memory.arm = arm if arm is not None else memory.arm
         memory.scene = remember(memory.scene, self._scene.Eval(context))
         if context.get_time() < LOOK_ROUND_S:  # it looks round before it acts

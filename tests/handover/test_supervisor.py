@@ -115,27 +115,3 @@ def test_the_persons_arm_faces_the_way_the_chest_faced_while_it_watched(supervis
     memory = context.get_abstract_state(0).get_value()
     np.testing.assert_allclose(memory.facing.direction(), facing, atol=1e-9)
     np.testing.assert_allclose(memory.arm.frame[:, 0], facing, atol=1e-9)
-
-
-def test_the_persons_arm_keeps_the_lengths_voted_while_it_watched(supervisor):
-    """Each frame's lengths move with where the elbow and wrist lift to; the arm planned with
-    keeps the watch's medians, its shoulder where it is seen now."""
-    system, context, _ = supervisor
-    points, confidence = keypoints()
-    system.GetInputPort("skeleton").FixValue(context, Skeleton(np.zeros((18, 2)), points,
-                                                                confidence))  # fmt: skip
-    Simulator(system, context).AdvanceTo(0.55)
-    memory = context.get_abstract_state(0).get_value()
-    watched = memory.arm
-    memory.cycle.cycle.phase = Phase.APPROACH
-    elbow, wrist = keypoint_index("r_elbow"), keypoint_index("r_wrist")
-    moved = points + [0.05, 0.0, 0.0]
-    moved[wrist] = moved[elbow] + 1.15 * (points[wrist] - points[elbow])  # read long
-    later = Skeleton(np.zeros((18, 2)), moved, confidence)
-    assert receiving_arm([later]).forearm == pytest.approx(1.15 * watched.forearm)
-    system.GetInputPort("skeleton").FixValue(context, later)
-    Simulator(system, context).AdvanceTo(1.55)
-    memory = context.get_abstract_state(0).get_value()
-    assert memory.arm.forearm == pytest.approx(watched.forearm)
-    assert memory.arm.upper == pytest.approx(watched.upper)
-    np.testing.assert_allclose(memory.arm.shoulder, watched.shoulder + [0.05, 0.0, 0.0])
