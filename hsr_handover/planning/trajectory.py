@@ -90,8 +90,8 @@ class Target:
     keep COLLISION_BOUND from) and the least distance (m) kept from it all the way, `bound`:
     the goal's own, where the pads straddle it, less ESCAPE_SLACK, and no more than
     COLLISION_BOUND. Left out altogether, an approach that the optimiser bent round a
-    neighbour swept a pad 5 cm through the box it was going to grasp, and knocked it over
-    (the standing layout's trial 1, seed 2)."""
+    neighbour swept a pad 3 cm into the box it was going to grasp, and knocked it over (the
+    standing layout's trial 1, seed 2)."""
 
     name: str
     bound: float

@@ -1,6 +1,6 @@
 """A path that closes the hand on an obstacle (a grasp's approach, issue 10) may touch it only
 as its goal does: ignored outright, an approach that the optimiser bent round a neighbour swept
-a pad 5 cm through the box it was going to grasp and knocked it over (the standing layout's
+a pad 3 cm into the box it was going to grasp and knocked it over (the standing layout's
 trial 1, seed 2)."""
 
 from __future__ import annotations
