@@ -163,12 +163,13 @@ def optimize_path(
     guess = straight_guess(q_start, q_goal) if guess is None else guess
     contact = start_contact(scene, q_start, ignore)
     # A context that sees the target alone, made before the target is ignored with the rest.
-    alone = scene.ignoring_context(_all_but(scene, target.name)) if target is not None else None
+    alone = None if target is None else scene.ignoring_context(_all_but(scene, (target.name,)))
     with scene.ignoring(ignore):
         trajopt = _build(scene, q_start, q_goal, guess.shape[1])
         constraints = _keep_clear(trajopt, scene, contact, samples)
-        if target is not None:
-            constraints += [*alone, _keep_clear_of(trajopt, scene, target, alone[1], samples)]
+        if alone is not None:
+            root, context = alone
+            constraints += [root, context, _keep_clear_of(trajopt, scene, target, context, samples)]
         trajopt.SetInitialGuess(BsplineTrajectory(trajopt.basis(), guess * 1.0))
         result = solve(trajopt.prog())
         usable = solved(trajopt.prog(), result)
@@ -215,9 +216,9 @@ def _build(
     return trajopt
 
 
-def _all_but(scene: PlanningScene, name: str) -> list[str]:
-    """The scene's obstacles other than `name`."""
-    return [other for other in scene.geometry if other not in (name, HELD)]
+def _all_but(scene: PlanningScene, names: tuple[str, ...]) -> list[str]:
+    """The scene's obstacles other than those named (the held object is the robot's)."""
+    return [other for other in scene.geometry if other not in names and other != HELD]
 
 
 def _keep_clear_of(trajopt, scene: PlanningScene, target: Target, context, samples: int):
@@ -242,8 +243,7 @@ def _keep_clear(trajopt, scene: PlanningScene, contact: StartContact, samples: i
     everything = lower_bound(COLLISION_BOUND, scene.plant_context)
     alive, escape = [everything], (everything,)
     if contact.names:
-        others = [name for name in scene.geometry if name not in contact.names and name != HELD]
-        touched_root, touched = scene.ignoring_context(others)
+        touched_root, touched = scene.ignoring_context(_all_but(scene, contact.names))
         rest_root, rest = scene.ignoring_context(contact.names)
         escape = (lower_bound(contact.bound(contact.names[0], 0.0), touched),
                   lower_bound(COLLISION_BOUND, rest))  # fmt: skip
