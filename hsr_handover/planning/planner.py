@@ -292,7 +292,7 @@ def _plan_legs(scene, target, legs: tuple[Leg, ...], limits, seconds, ik_solves)
             return Plan(False, f"{name}: {timed.reason}", target, seconds=seconds,
                         ik_solves=ik_solves)  # fmt: skip
         motions.append(Motion(name, ignore, timed))
-    return Plan(True, "ok", target, tuple(motions), seconds, ik_solves, legs[-1][3])
+    return Plan(True, "ok", target, tuple(motions), seconds, ik_solves, legs[-1].q_to)
 
 
 def _path(scene, q_from, q_to, ignore, straight: bool, target: Target | None = None):

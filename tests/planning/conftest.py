@@ -1,10 +1,12 @@
-"""The HSR's plant and limits for the planning tests (fixtures), and configurations by joint
-name (`configuration`, imported by the tests)."""
+"""The HSR's plant and limits for the planning tests (fixtures), configurations by joint name
+(`configuration`) and the base slid until it is a given distance from an obstacle
+(`slid_until`), imported by the tests."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
+import scipy.optimize
 from pydrake.multibody.parsing import Parser
 from pydrake.multibody.plant import MultibodyPlant
 
@@ -31,3 +33,23 @@ def configuration(plant: MultibodyPlant, values: dict[str, float]) -> np.ndarray
     for joint, value in values.items():
         vector[plant.GetJointByName(joint).position_start()] = value
     return vector
+
+
+def slid_until(
+    scene, q: np.ndarray, joint: str, clearance: float, bracket: tuple[float, float],
+    obstacle: str | None = None,
+) -> np.ndarray:  # fmt: skip
+    """`q` (plant positions of the PlanningScene `scene`) with the base `joint` moved within
+    `bracket` (m) until the HSR is `clearance` (m, negative inside) from `obstacle`, or from
+    the nearest obstacle when None."""
+    q = q.copy()
+    i = scene.index(joint)
+
+    def off(value: float) -> float:
+        q[i] = value
+        if obstacle is None:
+            return scene.clearance_at(q) - clearance
+        return scene.clearances_at(q)[obstacle] - clearance
+
+    q[i] = scipy.optimize.brentq(off, *bracket, xtol=1e-5)
+    return q

@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-import scipy.optimize
 
 from hsr_handover.hsr import BASE_JOINTS
 from hsr_handover.perception.object_shapes import CYLINDER, ObjectShape
@@ -20,6 +19,7 @@ from hsr_handover.planning.trajectory import (
     Target,
     approached_target,
 )
+from tests.planning.conftest import slid_until
 
 TOUCHING = -0.01  # m: the goal is 1 cm inside the target
 DENSE = 200
@@ -43,15 +43,7 @@ def start(scene) -> np.ndarray:
 def goal(scene, start) -> np.ndarray:
     """The base beyond the pillar, backed onto it until TOUCHING: the straight way there runs
     through it."""
-    x = scene.index(BASE_JOINTS[0])
-    q = start.copy()
-
-    def inside(base_x: float) -> float:
-        q[x] = base_x
-        return scene.clearances_at(q)["target"] - TOUCHING
-
-    q[x] = scipy.optimize.brentq(inside, 0.6, 1.2, xtol=1e-5)
-    return q
+    return slid_until(scene, start, BASE_JOINTS[0], TOUCHING, (0.6, 1.2), "target")
 
 
 def _least(scene, path) -> float:

@@ -7,7 +7,6 @@ import dataclasses
 
 import numpy as np
 import pytest
-import scipy.optimize
 
 from hsr_handover.effectivity import mutual_area
 from hsr_handover.effectivity.arm_map import load_or_build
@@ -45,6 +44,7 @@ from hsr_handover.planning.trajectory import (
     approached_target,
     optimize_path,
 )
+from tests.planning.conftest import slid_until
 
 TABLE_TOP = 0.72
 CUPS = {"red": -0.22, "green": 0.0, "blue": 0.22}
@@ -188,15 +188,7 @@ def test_a_path_that_dips_between_its_samples_is_optimised_again_at_more(monkeyp
 def test_a_start_the_perceived_table_crowds_still_gets_a_path(scene, arm_map):
     """The base driven up to 6 mm from the table's edge (inside the 13 mm bound): the path
     gets away from it, no nearer than it began, and on to the pre-grasp."""
-    q_now = _ready(scene)
-    x = scene.index(BASE_JOINTS[0])
-
-    def clearance(base_x: float) -> float:
-        q = q_now.copy()
-        q[x] = base_x
-        return scene.clearance_at(q) - 0.006
-
-    q_now[x] = scipy.optimize.brentq(clearance, 0.0, 0.4, xtol=1e-4)
+    q_now = slid_until(scene, _ready(scene), BASE_JOINTS[0], 0.006, (0.0, 0.4))
     start = scene.clearance_at(q_now)
     assert start < COLLISION_BOUND
     target = grasp_configurations(scene, arm_map, "green", q_now)

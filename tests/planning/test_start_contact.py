@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-import scipy.optimize
 
 from hsr_handover.hsr import BASE_JOINTS
 from hsr_handover.perception.object_shapes import CYLINDER, ObjectShape
@@ -23,6 +22,7 @@ from hsr_handover.planning.trajectory import (
     optimize_path,
     start_contact,
 )
+from tests.planning.conftest import slid_until
 
 TOUCHING = -0.02  # m: the start is 2 cm inside the pillar beside it
 DENSE = 200
@@ -43,16 +43,8 @@ def scene() -> PlanningScene:
 @pytest.fixture(scope="module")
 def start(scene) -> np.ndarray:
     """The base moved sideways until it is TOUCHING the pillar beside it."""
-    y = scene.index(BASE_JOINTS[1])
     scene.set_positions({})
-    q = scene.positions()
-
-    def inside(base_y: float) -> float:
-        q[y] = base_y
-        return scene.clearances_at(q)["beside"] - TOUCHING
-
-    q[y] = scipy.optimize.brentq(inside, 0.0, 0.2, xtol=1e-5)
-    return q
+    return slid_until(scene, scene.positions(), BASE_JOINTS[1], TOUCHING, (0.0, 0.2), "beside")
 
 
 def _goal(scene, start) -> np.ndarray:
