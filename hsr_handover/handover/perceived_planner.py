@@ -27,6 +27,7 @@ from hsr_handover.planning.planner import (
     holding,
     plan_grasp,
     plan_handover,
+    plan_posture,
     plan_retreat,
 )
 from hsr_handover.planning.planning_scene import PlanningScene
@@ -216,6 +217,11 @@ class PerceivedPlanner:
         if clearance < COLLISION_BOUND - DIP_ALLOWANCE:
             return None, f"the way to the hand comes {clearance:.3f} m near"
         return RetargetedMotion(motion), "ok"
+
+    def posture(self, q: np.ndarray, goal: np.ndarray) -> PlannedMotions:
+        """From `q` to the posture `goal` (plant positions), holding nothing."""
+        started = time.perf_counter()
+        return self._motions(plan_posture(self._planning(), q, goal, self.limits), started)
 
     def retreat(
         self, q: np.ndarray, held: Held | None, let_go: Held | None = None

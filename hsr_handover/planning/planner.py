@@ -50,6 +50,7 @@ from hsr_handover.planning.trajectory import (
 STAGES = ("ik", "optimisation", "timing")
 HANDOVER = "handover"  # a handover plan's target
 RETREAT = "retreat"  # a retreat plan's target and motion
+POSTURE = "posture"  # a plan to a posture given joint by joint: its target and motion
 BACK_OFF = "back off"  # a retreat's first leg when it starts at the person's hand
 STRAIGHT_LEGS = ("approach", "lift", BACK_OFF)  # short moves of the hand: straight when clear
 STOW_BACK_UPS = (0.0, 0.15, 0.3)  # m the base may back up to stow the arm
@@ -224,6 +225,16 @@ def plan_retreat(
         q_stowed = _stowed(scene, q_now, (held.label,), STOWED | STOWED_HOLDING)
         leg = Leg(RETREAT, (held.label,), q_now, q_stowed)
         return _plan_legs(scene, RETREAT, (leg,), limits, seconds, 0)
+
+
+def plan_posture(
+    scene: PlanningScene, q_now: np.ndarray, q_goal: np.ndarray, limits: JointLimits
+) -> Plan:
+    """Plan from `q_now` to the posture `q_goal` (plant positions), clear of everything the
+    robot perceives. Never raises: `reason` says why there is none."""
+    seconds = dict.fromkeys(STAGES, 0.0)
+    leg = Leg(POSTURE, (), q_now, q_goal)
+    return _plan_legs(scene, POSTURE, (leg,), limits, seconds, 0)
 
 
 def _stowed(

@@ -5,6 +5,8 @@ Inputs, all percepts: `hsr_state_measured` and `gripper_opening_measured` (the j
 `intent` (the IntentEstimator's state), `perceived_scene`, `skeleton` (lifted) and
 `detections`. Every TICK_S it looks round first (the head panned to the table's ends), then
 steps the `HandoverCycle` on what it perceives; the cycle plans through a `PerceivedPlanner`.
+Once it has seen the person's shoulders and the objects, it raises its torso if the objects
+would hide a pointing arm from its camera (`watch_view`), and watches from there.
 Outputs: `hsr_desired_state` ([q; v] of COMMANDED_JOINTS: the motion under way, else where it
 stands; the ready posture before any), `gripper_desired_opening`, `cycle` (the record),
 `plan_view` (PlanView: what the plans show in the replay) and `watching` (1 while the cycle
@@ -22,12 +24,22 @@ from pydrake.systems.framework import BasicVector, Context, LeafSystem, State
 
 from hsr_handover.effectivity.arm_map import ArmEffectivity
 from hsr_handover.effectivity.person_map import RECEIVING_SIDE, HumanArm, receiving_arm
-from hsr_handover.handover.cycle import Cycle, HandoverCycle, Percepts, Phase
+from hsr_handover.handover.cycle import Cycle, HandoverCycle, Motion, Percepts, Phase
 from hsr_handover.handover.gaze import look_at
-from hsr_handover.handover.look_round import LOOK_ROUND_S, look_round_pan
-from hsr_handover.handover.perceived_planner import PerceivedPlanner, pads_centre, remember
+from hsr_handover.handover.look_round import (
+    LOOK_AROUND_PANS,
+    LOOK_DWELL_S,
+    LOOK_ROUND_S,
+    look_round_pan,
+)
+from hsr_handover.handover.perceived_planner import (
+    PerceivedPlanner,
+    pads_centre,
+    remember,
+)
 from hsr_handover.handover.plan_view import PlanView
-from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY, HEAD_JOINTS
+from hsr_handover.handover.watch_view import watch_posture
+from hsr_handover.hsr import ARM_JOINTS, COMMANDED_JOINTS, GRIPPER_KEY, HEAD_JOINTS
 from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.perception.facing import SteadyFacing
 from hsr_handover.planning.perceived_scene import PerceivedScene
@@ -35,20 +47,38 @@ from hsr_handover.systems.watching import WATCHING
 
 TICK_S = 0.1  # s between the supervisor's decisions
 PAN, TILT = (COMMANDED_JOINTS.index(joint) for joint in HEAD_JOINTS)
+ARM_ROWS = [COMMANDED_JOINTS.index(joint) for joint in ARM_JOINTS]
+VIEW_AFTER_S = LOOK_DWELL_S * len(LOOK_AROUND_PANS)
+"""s: where to watch from is decided once the look round is back where it began, the objects
+on both sides seen (a raise of 0.34 m then ends by 4.5 s, before the person points)."""
+
+
+@dataclasses.dataclass(frozen=True)
+class _Raise:
+    """The move to the posture it watches from (plant positions over time), begun at `start`
+    s."""
+
+    start: float
+    motion: Motion
+
+    def __deepcopy__(self, memo: dict) -> _Raise:
+        return self  # never changed once made
 
 
 @dataclasses.dataclass
 class _Memory:
     """What the supervisor carries between ticks: the cycle, the person's arm as last seen
     with both shoulders, the way their torso faces (voted over the watch's frames: later, the
-    robot's own arm comes between the camera and the chest), the head's aim, and the scene
-    with what is out of view remembered."""
+    robot's own arm comes between the camera and the chest), the head's aim, the scene
+    with what is out of view remembered, and where it watches from."""
 
     cycle: HandoverCycle
     arm: HumanArm | None = None
     facing: SteadyFacing = dataclasses.field(default_factory=SteadyFacing)
     head: tuple[float, float] | None = None  # (pan, tilt) rad while the cycle looks at a point
     scene: PerceivedScene | None = None
+    view_decided: bool = False
+    raised: _Raise | None = None  # None: it watches from the ready posture
 
 
 class HandoverSupervisor(LeafSystem):
@@ -99,6 +129,8 @@ class HandoverSupervisor(LeafSystem):
         arm = receiving_arm([skeleton], memory.facing.direction())
         memory.arm = arm if arm is not None else memory.arm
         memory.scene = remember(memory.scene, self._scene.Eval(context))
+        if not memory.view_decided and context.get_time() >= VIEW_AFTER_S:
+            self._decide_view(context, skeleton, memory)
         if context.get_time() < LOOK_ROUND_S:  # it looks round before it acts
             return
         self._planner.perceive(memory.scene, memory.arm)
@@ -107,14 +139,39 @@ class HandoverSupervisor(LeafSystem):
         point = memory.cycle.gaze()
         memory.head = None if point is None else look_at(self._robot, percepts.q, point)
 
-    def _percepts(
-        self, context: Context, skeleton, arm: HumanArm | None, cycle: HandoverCycle
-    ) -> Percepts:
+    def _decide_view(self, context: Context, skeleton, memory: _Memory) -> None:
+        """Raise the torso if the objects would hide a pointing arm (`watch_posture`): once,
+        when both shoulders and an object are seen, and only before a request is recognised."""
+        shoulders = [_keypoint(skeleton, index) for index in _SHOULDERS]
+        objects = memory.scene.objects if memory.scene is not None else ()
+        if memory.cycle.cycle.target is not None:
+            memory.view_decided = True
+            return
+        if any(point is None for point in shoulders) or not objects:
+            return
+        memory.view_decided = True
+        q = self._measured(context)
+        posture = watch_posture(self._robot, q, shoulders, objects)
+        if posture is None:
+            return
+        self._planner.perceive(memory.scene, memory.arm)
+        planned = self._planner.posture(q, posture)
+        if planned.ok:  # else it watches from where it is, as it would have
+            memory.raised = _Raise(context.get_time(), planned.motions[0][1])
+
+    def _measured(self, context: Context) -> np.ndarray:
+        """The HSR's measured positions (plant order), also set in the planner's robot."""
         measured = self._state.Eval(context)[: len(COMMANDED_JOINTS)]
         opening = float(self._opening.Eval(context)[0])
         self._robot.set_positions(dict(zip(COMMANDED_JOINTS, measured, strict=True))
                                   | {GRIPPER_KEY: opening})  # fmt: skip
-        q = self._robot.positions()
+        return self._robot.positions()
+
+    def _percepts(
+        self, context: Context, skeleton, arm: HumanArm | None, cycle: HandoverCycle
+    ) -> Percepts:
+        q = self._measured(context)
+        opening = float(self._opening.Eval(context)[0])
         target = self._intent.Eval(context).target
         wanted = cycle.cycle.target or target  # what it is fetching, once it has begun
         seen = None
@@ -139,7 +196,7 @@ class HandoverSupervisor(LeafSystem):
         memory = self._memory_of(context)
         q, v, _ = memory.cycle.command(time)
         if q is None:
-            command = self._ready.copy()
+            command = self._resting(memory, time)
             if memory.cycle.cycle.phase is Phase.WATCH:
                 command[PAN] = look_round_pan(time, self._ready[PAN])
         else:
@@ -149,6 +206,17 @@ class HandoverSupervisor(LeafSystem):
             command[[PAN, TILT]] = memory.head
             command[[n + PAN, n + TILT]] = 0.0
         output.SetFromVector(command)
+
+    def _resting(self, memory: _Memory, time: float) -> np.ndarray:
+        """The command while the cycle moves nothing: the ready posture, the arm (and with it
+        the torso) where it watches from."""
+        command = self._ready.copy()
+        if memory.raised is not None:
+            q, v = memory.raised.motion.state(time - memory.raised.start)
+            n, rows = len(COMMANDED_JOINTS), ARM_ROWS
+            command[rows] = q[self._rows[rows]]
+            command[[n + row for row in rows]] = v[self._rows[rows]]
+        return command
 
     def _calc_opening(self, context: Context, output: BasicVector) -> None:
         cycle = self._memory_of(context).cycle
@@ -169,6 +237,7 @@ class HandoverSupervisor(LeafSystem):
 
 
 _WRIST = keypoint_index(f"{RECEIVING_SIDE}_wrist")
+_SHOULDERS = (keypoint_index("r_shoulder"), keypoint_index("l_shoulder"))
 _UPPER_BODY = tuple(keypoint_index(name) for name in ("neck", "r_shoulder", "l_shoulder"))
 _FACE = tuple(keypoint_index(name) for name in ("nose", "r_eye", "l_eye", "r_ear", "l_ear"))
 

@@ -1,0 +1,120 @@
+"""Where the robot watches from (active perception): high enough that the objects on the table
+do not hide the arm a person points with.
+
+A seated person's pointing arm runs down from the shoulder toward the object, and near a high
+table the wrist comes level with the objects' tops: seen from the HSR's head at its lowest
+(the camera 0.97 m up), the objects between hide it, and the request is never recognised (the
+staggered layout's trials 5, 9 and 10: a table 0.80 m high, a person 1.58 m tall). Before the
+person points, the robot knows where the shoulders and the objects are; it works out where an
+arm pointing at each object would have its elbow and wrist, and how much higher the camera
+must be for every sight line to them to pass over every object. The torso rises that much,
+the arm folded down out of the camera's view; the head keeps its tilt (a higher camera at
+the same tilt still frames the table's near edge, the objects and the person's head).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from hsr_handover.hsr import CAMERA_FRAME, TORSO_JOINT
+from hsr_handover.perception.object_shapes import ObjectShape
+from hsr_handover.planning.planning_scene import PlanningScene
+
+LIFT = "arm_lift_joint"
+FLEX = "arm_flex_joint"
+POINTING_REACH = 0.5
+"""m from the shoulder to the wrist of an arm pointing at an object on the table (the
+simulated 1.58 m person's reads 0.51 m; most adults' are longer, so their wrists are
+nearer the object and higher above the table)."""
+SIGHT_POINTS = (0.55, 1.0)
+"""Where along the pointing reach the camera must see: the elbow and the wrist, the keypoints
+the pointing ray is drawn through."""
+OVER_TOP = 0.03
+"""m a sight line must pass above an object's top: the keypoints are joint centres inside the
+limb, and the objects' tops are perceived a cm or two off."""
+BESIDE = 0.02
+"""m beyond an object's footprint that a sight line passing it still counts as over it."""
+
+
+def reach_points(shoulders: Sequence[np.ndarray], objects: Sequence[ObjectShape]) -> np.ndarray:
+    """(n, 3) points (m, world) where the elbow and wrist of an arm from each shoulder pointing
+    at each object would be: on the line to where the object stands (the simulated person's
+    wrist ends 4 cm below the line to the object's middle, 2 cm below this one)."""
+    points = []
+    for shoulder in shoulders:
+        for shape in objects:
+            toward = np.array([*shape.center, shape.bottom]) - shoulder
+            length = float(np.linalg.norm(toward))
+            if length < 1e-6:
+                continue
+            points += [shoulder + toward * min(1.0, f * POINTING_REACH / length)
+                       for f in SIGHT_POINTS]  # fmt: skip
+    return np.array(points).reshape(-1, 3)
+
+
+def camera_rise(
+    camera: np.ndarray, shoulders: Sequence[np.ndarray], objects: Sequence[ObjectShape]
+) -> float:
+    """How much higher (m, >= 0) the camera at `camera` (m, world) must be for its sight lines
+    to every `reach_points` to pass OVER_TOP above every object they cross."""
+    rise = 0.0
+    for point in reach_points(shoulders, objects):
+        for shape in objects:
+            needed = _height_to_clear(camera, point, shape)
+            rise = max(rise, needed - camera[2])
+    return rise
+
+
+def _height_to_clear(camera: np.ndarray, point: np.ndarray, shape: ObjectShape) -> float:
+    """The camera height (m) at which the line from it to `point` passes OVER_TOP above
+    `shape`'s top where it crosses the footprint (-inf if it does not cross it, or crosses it
+    beyond the point). The camera rises straight up, so the line's horizontal course stays."""
+    start, end = camera[:2], point[:2]
+    span = end - start
+    length_sq = float(span @ span)
+    if length_sq < 1e-12:
+        return -math.inf
+    along = float((shape.center - start) @ span) / length_sq  # 0 at the camera, 1 at the point
+    across = abs(float(np.cross(span, shape.center - start))) / math.sqrt(length_sq)
+    if not 0.0 < along < 1.0 or across > shape.radius + BESIDE:
+        return -math.inf
+    top = shape.bottom + shape.height + OVER_TOP
+    # The line's height over the object is camera_z + along * (point_z - camera_z).
+    return (top - along * point[2]) / (1.0 - along)
+
+
+def watch_posture(
+    robot: PlanningScene,
+    q: np.ndarray,
+    shoulders: Sequence[np.ndarray],
+    objects: Sequence[ObjectShape],
+) -> np.ndarray | None:
+    """The HSR's posture (plant positions) to watch from: `q` with the torso raised by the
+    `camera_rise` the person's `shoulders` and the `objects` (m, world) ask for, as far as the
+    lift goes, and the arm folded down; None when the view from `q` needs no rise.
+
+    The lift raises the arm twice as fast as the head: raised 0.34 m with the arm upright, its
+    wrist stands 11 cm below the camera and 19 cm before it, in the view's lower half, and
+    hides the objects on that side (two of the staggered layout's four; seven wrong objects in
+    twelve trials with the torso at 0.6 m, session 21). Folded down to its limit, the upper
+    arm points down and forward, the tucked hand below it, out of view."""
+    camera = _camera(robot, q)
+    rise = camera_rise(camera.translation(), shoulders, objects)
+    if not rise > 0.0 or not objects or not shoulders:
+        return None
+    lift_at, torso_at, flex_at = robot.index(LIFT), robot.index(TORSO_JOINT), robot.index(FLEX)
+    lower, upper = robot.plant.GetPositionLowerLimits(), robot.plant.GetPositionUpperLimits()
+    raised = np.array(q, dtype=float)
+    # The torso, which carries the head, rises half as fast as the arm lift.
+    raised[lift_at] = min(upper[lift_at], q[lift_at] + 2.0 * rise)
+    raised[torso_at] = 0.5 * raised[lift_at]
+    raised[flex_at] = lower[flex_at]
+    return raised
+
+
+def _camera(robot: PlanningScene, q: np.ndarray):
+    robot.plant.SetPositions(robot.plant_context, q)
+    return robot.plant.GetFrameByName(CAMERA_FRAME).CalcPoseInWorld(robot.plant_context)
