@@ -20,11 +20,18 @@ from collections.abc import Sequence
 import numpy as np
 
 from hsr_handover.hsr import CAMERA_FRAME, TORSO_JOINT
+from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.perception.object_shapes import ObjectShape
+from hsr_handover.planning.perceived_scene import BONES, behind
 from hsr_handover.planning.planning_scene import PlanningScene
 
 LIFT = "arm_lift_joint"
 FLEX = "arm_flex_joint"
+SHOULDER_DEPTH = BONES[(keypoint_index("neck"), keypoint_index("r_shoulder"))]
+"""m from a lifted shoulder keypoint, on the body's surface facing the camera, back to the
+joint the arm turns about. Taken at the keypoint, the shoulders of the handover reference's
+people came 8-12 cm nearer the robot than they are, and their predicted wrists as near the
+objects as the staggered layout's (a margin of -0.6 cm to the rise, against -5 cm here)."""
 POINTING_REACH = 0.5
 """m from the shoulder to the wrist of an arm pointing at an object on the table (the
 simulated 1.58 m person's reads 0.51 m; most adults' are longer, so their wrists are
@@ -37,6 +44,9 @@ OVER_TOP = 0.03
 limb, and the objects' tops are perceived a cm or two off."""
 BESIDE = 0.02
 """m beyond an object's footprint that a sight line passing it still counts as over it."""
+LEAST_RISE = 0.02
+"""m: a view that asks for less than this is clear enough; no move for it (the perceived
+shoulders and objects wander by a cm or so from frame to frame)."""
 
 
 def reach_points(shoulders: Sequence[np.ndarray], objects: Sequence[ObjectShape]) -> np.ndarray:
@@ -78,7 +88,8 @@ def _height_to_clear(camera: np.ndarray, point: np.ndarray, shape: ObjectShape) 
     if length_sq < 1e-12:
         return -math.inf
     along = float((shape.center - start) @ span) / length_sq  # 0 at the camera, 1 at the point
-    across = abs(float(np.cross(span, shape.center - start))) / math.sqrt(length_sq)
+    offset = shape.center - start
+    across = abs(float(span[0] * offset[1] - span[1] * offset[0])) / math.sqrt(length_sq)
     if not 0.0 < along < 1.0 or across > shape.radius + BESIDE:
         return -math.inf
     top = shape.bottom + shape.height + OVER_TOP
@@ -93,7 +104,8 @@ def watch_posture(
     objects: Sequence[ObjectShape],
 ) -> np.ndarray | None:
     """The HSR's posture (plant positions) to watch from: `q` with the torso raised by the
-    `camera_rise` the person's `shoulders` and the `objects` (m, world) ask for, as far as the
+    `camera_rise` the person's `shoulders` (the lifted keypoints, SHOULDER_DEPTH before the
+    joints) and the `objects` (m, world) ask for, as far as the
     lift goes, and the arm folded down; None when the view from `q` needs no rise.
 
     The lift raises the arm twice as fast as the head: raised 0.34 m with the arm upright, its
@@ -101,12 +113,13 @@ def watch_posture(
     hides the objects on that side (two of the staggered layout's four; seven wrong objects in
     twelve trials with the torso at 0.6 m, session 21). Folded down to its limit, the upper
     arm points down and forward, the tucked hand below it, out of view."""
-    camera = _camera(robot, q)
-    rise = camera_rise(camera.translation(), shoulders, objects)
-    if not rise > 0.0 or not objects or not shoulders:
-        return None
+    camera = _camera(robot, q).translation()
+    joints = [behind(shoulder, camera, SHOULDER_DEPTH) for shoulder in shoulders]
+    rise = camera_rise(camera, joints, objects)
     lift_at, torso_at, flex_at = robot.index(LIFT), robot.index(TORSO_JOINT), robot.index(FLEX)
     lower, upper = robot.plant.GetPositionLowerLimits(), robot.plant.GetPositionUpperLimits()
+    if not rise >= LEAST_RISE or q[lift_at] >= upper[lift_at] - 2.0 * LEAST_RISE:
+        return None
     raised = np.array(q, dtype=float)
     # The torso, which carries the head, rises half as fast as the arm lift.
     raised[lift_at] = min(upper[lift_at], q[lift_at] + 2.0 * rise)

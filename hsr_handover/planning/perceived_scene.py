@@ -93,7 +93,7 @@ def person_capsules(
     for (a, b), radius in BONES.items():
         if not (seen[a] and seen[b]):
             continue
-        start, end = (_behind(points[i], camera_position, radius) for i in (a, b))
+        start, end = (behind(points[i], camera_position, radius) for i in (a, b))
         if b in _WRISTS:
             forearm = end - start
             end = end + HAND_LENGTH * forearm / max(np.linalg.norm(forearm), 1e-9)
@@ -159,7 +159,9 @@ def extend_past_view(table: TableEstimate, camera_xy: np.ndarray) -> TableEstima
     return dataclasses.replace(table, center=center, size=high - low)
 
 
-def _behind(surface: np.ndarray, camera_position: np.ndarray, depth: float) -> np.ndarray:
+def behind(surface: np.ndarray, camera_position: np.ndarray, depth: float) -> np.ndarray:
+    """The point `depth` m behind a point on a `surface` seen from `camera_position`, along
+    the line of sight (m, world): a limb's axis behind its lifted keypoint."""
     sight = surface - camera_position
     return surface + depth * sight / max(np.linalg.norm(sight), 1e-9)
 

@@ -49,8 +49,9 @@ TICK_S = 0.1  # s between the supervisor's decisions
 PAN, TILT = (COMMANDED_JOINTS.index(joint) for joint in HEAD_JOINTS)
 ARM_ROWS = [COMMANDED_JOINTS.index(joint) for joint in ARM_JOINTS]
 VIEW_AFTER_S = LOOK_DWELL_S * len(LOOK_AROUND_PANS)
-"""s: where to watch from is decided once the look round is back where it began, the objects
-on both sides seen (a raise of 0.34 m then ends by 4.5 s, before the person points)."""
+"""s: where to watch from is first weighed as the look round turns back to where it began,
+the objects on both sides seen (a raise of 0.6 m then ends by about 5 s), and again at every
+decision until a request is recognised, as more objects come into view."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -60,6 +61,10 @@ class _Raise:
 
     start: float
     motion: Motion
+
+    @property
+    def end(self) -> float:
+        return self.start + self.motion.duration
 
     def __deepcopy__(self, memo: dict) -> _Raise:
         return self  # never changed once made
@@ -77,8 +82,8 @@ class _Memory:
     facing: SteadyFacing = dataclasses.field(default_factory=SteadyFacing)
     head: tuple[float, float] | None = None  # (pan, tilt) rad while the cycle looks at a point
     scene: PerceivedScene | None = None
-    view_decided: bool = False
     raised: _Raise | None = None  # None: it watches from the ready posture
+    view_blocked: bool = False  # a raise found no way: it watches from where it is
 
 
 class HandoverSupervisor(LeafSystem):
@@ -129,8 +134,8 @@ class HandoverSupervisor(LeafSystem):
         arm = receiving_arm([skeleton], memory.facing.direction())
         memory.arm = arm if arm is not None else memory.arm
         memory.scene = remember(memory.scene, self._scene.Eval(context))
-        if not memory.view_decided and context.get_time() >= VIEW_AFTER_S:
-            self._decide_view(context, skeleton, memory)
+        if context.get_time() >= VIEW_AFTER_S:
+            self._raise_view(context, skeleton, memory)
         if context.get_time() < LOOK_ROUND_S:  # it looks round before it acts
             return
         self._planner.perceive(memory.scene, memory.arm)
@@ -139,25 +144,27 @@ class HandoverSupervisor(LeafSystem):
         point = memory.cycle.gaze()
         memory.head = None if point is None else look_at(self._robot, percepts.q, point)
 
-    def _decide_view(self, context: Context, skeleton, memory: _Memory) -> None:
-        """Raise the torso if the objects would hide a pointing arm (`watch_posture`): once,
-        when both shoulders and an object are seen, and only before a request is recognised."""
+    def _raise_view(self, context: Context, skeleton, memory: _Memory) -> None:
+        """Raise the torso if the objects would hide a pointing arm (`watch_posture`), from
+        where it stands: while it watches for a request, sees both shoulders and an object, and
+        is not already rising."""
+        time = context.get_time()
+        raising = memory.raised is not None and time < memory.raised.end
+        if memory.cycle.cycle.target is not None or memory.view_blocked or raising:
+            return
         shoulders = [_keypoint(skeleton, index) for index in _SHOULDERS]
         objects = memory.scene.objects if memory.scene is not None else ()
-        if memory.cycle.cycle.target is not None:
-            memory.view_decided = True
-            return
         if any(point is None for point in shoulders) or not objects:
             return
-        memory.view_decided = True
         q = self._measured(context)
         posture = watch_posture(self._robot, q, shoulders, objects)
         if posture is None:
             return
         self._planner.perceive(memory.scene, memory.arm)
         planned = self._planner.posture(q, posture)
-        if planned.ok:  # else it watches from where it is, as it would have
-            memory.raised = _Raise(context.get_time(), planned.motions[0][1])
+        if planned.ok:
+            memory.raised = _Raise(time, planned.motions[0][1])
+        memory.view_blocked = not planned.ok  # then it watches from where it is
 
     def _measured(self, context: Context) -> np.ndarray:
         """The HSR's measured positions (plant order), also set in the planner's robot."""

@@ -15,9 +15,15 @@ from hsr_handover.hsr import COMMANDED_JOINTS
 from hsr_handover.intent import IntentState
 from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.perception.object_detection import DetectionResult
+from hsr_handover.perception.object_shapes import BOX, ObjectShape
 from hsr_handover.perception.skeleton import Skeleton
 from hsr_handover.planning.perceived_scene import PerceivedScene
-from hsr_handover.systems.handover_supervisor import HandoverSupervisor, _face, _person_point
+from hsr_handover.systems.handover_supervisor import (
+    VIEW_AFTER_S,
+    HandoverSupervisor,
+    _face,
+    _person_point,
+)
 from tests.intent.synthetic_person import keypoints
 
 PAN = COMMANDED_JOINTS.index("head_pan_joint")
@@ -115,3 +121,44 @@ def test_the_persons_arm_faces_the_way_the_chest_faced_while_it_watched(supervis
     memory = context.get_abstract_state(0).get_value()
     np.testing.assert_allclose(memory.facing.direction(), facing, atol=1e-9)
     np.testing.assert_allclose(memory.arm.frame[:, 0], facing, atol=1e-9)
+
+
+def _watched_from(system, context, table: float, until: float = VIEW_AFTER_S + 4.0) -> np.ndarray:
+    """The command once the look round is over, with the synthetic person seated behind three
+    objects standing on a table `table` m high, and the joints where they were commanded."""
+    points, confidence = keypoints()
+    skeleton = Skeleton(np.zeros((18, 2)), points, confidence, torso_forward=np.array([-1.0, 0, 0]))
+    objects = tuple(
+        ObjectShape(label, BOX, np.array([x, y]), np.array([0.06, 0.06]), 0.0, table, 0.12)
+        for label, x, y in (("red", 0.78, -0.3), ("yellow", 0.92, -0.08), ("green", 0.8, 0.14))
+    )
+    system.GetInputPort("skeleton").FixValue(context, skeleton)
+    system.GetInputPort("perceived_scene").FixValue(context, PerceivedScene(None, objects))
+    simulator = Simulator(system, context)
+    for time in np.arange(context.get_time() + 0.05, until, 0.1):  # the joints follow
+        simulator.AdvanceTo(time)
+        system.GetInputPort("hsr_state_measured").FixValue(context, _command(system, context))
+    return _command(system, context)
+
+
+def test_it_watches_from_a_raised_torso_when_the_objects_would_hide_a_pointing_arm(supervisor):
+    system, context, ready = supervisor
+    command = _watched_from(system, context, 0.86)
+    lift, flex = (COMMANDED_JOINTS.index(joint) for joint in ("arm_lift_joint", "arm_flex_joint"))
+    assert command[lift] > 0.1  # raised ...
+    assert command[flex] < -2.5  # ... with the arm folded down out of the camera's view
+    n = len(COMMANDED_JOINTS)
+    np.testing.assert_allclose(command[n:], 0.0, atol=1e-6)  # and arrived there
+    assert system.GetOutputPort("cycle").Eval(context).phase is Phase.WATCH
+
+
+def test_it_watches_from_the_ready_posture_over_a_low_table(supervisor):
+    system, context, ready = supervisor
+    np.testing.assert_allclose(_watched_from(system, context, 0.72), ready)
+
+
+def test_it_rises_later_when_objects_that_would_hide_the_arm_come_into_view(supervisor):
+    system, context, ready = supervisor
+    np.testing.assert_allclose(_watched_from(system, context, 0.72), ready)
+    lift = COMMANDED_JOINTS.index("arm_lift_joint")
+    assert _watched_from(system, context, 0.86, until=context.get_time() + 4.0)[lift] > 0.1
