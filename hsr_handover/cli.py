@@ -270,6 +270,8 @@ def _print_cycle(cycle, person_holds: str) -> None:
     if cycle.target:
         target += f" (recognised at {cycle.recognised_time:.1f} s)"
     print(f"target:      {target}")
+    if cycle.watch_lift > 0:
+        print(f"watched from: the torso raised, arm lift {cycle.watch_lift:.2f} m")
     phases = ", ".join(f"{name} {at:.1f} s" for name, at in cycle.phase_times.items())
     print(f"phases:      {phases or 'watching only'}")
     print(f"planning:    {cycle.planning_s:.2f} s of wall time")

@@ -11,8 +11,9 @@ import sys
 
 import pytest
 
-from hsr_handover.cli import _ProgressBar
+from hsr_handover.cli import _print_cycle, _ProgressBar
 from hsr_handover.experiments.reporting import format_value
+from hsr_handover.handover.cycle import Cycle, Phase
 from tests.conftest import SCENARIOS, meshcat_commands
 
 FULL_BAR = "[" + "#" * 30 + "]"
@@ -120,3 +121,12 @@ def test_overrides_are_held_to_the_files_ranges(tmp_path, capsys, option, value,
     code = main(["run", str(SCENARIOS / "point_left.yaml"), "--html", str(replay), option, value])
     assert code == 2 and capsys.readouterr().err.strip() == f"error: {expected}"
     assert not replay.exists()
+
+
+@pytest.mark.parametrize(("lift", "said"), [(0.0, False), (0.42, True)])
+def test_the_run_says_when_the_robot_watched_from_a_raised_torso(capsys, lift: float, said: bool):
+    cycle = Cycle(Phase.DONE, target="yellow", recognised_time=4.0, watch_lift=lift)
+    _print_cycle(cycle, "yellow_box")
+    out = capsys.readouterr().out
+    assert ("watched from: the torso raised, arm lift 0.42 m" in out) is said
+    assert "target:      yellow (recognised at 4.0 s)" in out

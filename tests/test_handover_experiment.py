@@ -4,6 +4,7 @@ The whole cycle scored against truth end to end is in test_handover_cycle.py."""
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 
@@ -153,7 +154,8 @@ def test_a_refusal_is_graceful_only_when_the_robot_gives_up_holding_the_object(r
 
 def _experiment(base, box_trial, refusal):
     good = judge(box_trial, _cycle(), _score(), "yellow_box", NAMES)
-    late = judge(box_trial, _cycle(), _score(person_contact=30.0), "yellow_box", NAMES)
+    raised = dataclasses.replace(_cycle(), watch_lift=0.42)  # watched from a raised torso
+    late = judge(box_trial, raised, _score(person_contact=30.0), "yellow_box", NAMES)
     table = judge(box_trial, _cycle(), _score(table_contact=12.0), "", NAMES)
     label = {"red_cup": "red", "yellow_box": "yellow", "blue_cup": "blue"}[refusal.target]
     gave_up = _cycle(label, ("approach", "present", "retreat"), Failure.TIMEOUT)
@@ -180,6 +182,7 @@ def test_the_summary_counts_every_trial_crashed_ones_too(base, box_trial, refusa
     assert summary["min_clearance_m"] == pytest.approx(0.03)
     assert summary["paper"] == {"retrieval_rate": 0.866, "handover_rate": 0.90}
     assert summary["crashed"] == [{"index": box_trial.index, "error": "RuntimeError: boom"}]
+    assert summary["watched_raised"] == 1
 
 
 def test_results_are_written_as_csv_json_text_and_a_figure(base, box_trial, refusal, tmp_path):
@@ -197,6 +200,8 @@ def test_results_are_written_as_csv_json_text_and_a_figure(base, box_trial, refu
     assert (tmp_path / "h.png").stat().st_size > 10_000
     text = "\n".join(summary_lines(summary))
     assert "86.6 %" in text and "90.0 %" in text and "table contact 1" in text
+    assert "watched from a raised torso in 1 trials" in text
+    assert "0.42" in lines[2]  # the trial's arm lift, in its row
 
 
 @pytest.mark.parametrize(

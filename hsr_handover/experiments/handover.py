@@ -111,6 +111,7 @@ def judge(
         "clearance_table_m": score.clearance_table, "clearance_person_m": score.clearance_person,
         "recognition_s": cycle.recognised_time - trial.pointing_onset,
         "planning_s": cycle.planning_s, "execution_s": release_time - cycle.recognised_time,
+        "watch_lift_m": cycle.watch_lift,
         "error": "",
     }  # fmt: skip
 
@@ -189,7 +190,8 @@ def _median(values: list[float]) -> float:
 def summarise(experiment: HandoverExperiment) -> dict:
     """The JSON summary: retrieval and handover rates beside the paper's, failures per class,
     contacts, the medians of recognition, planning and execution time over successful
-    trials, the least clearance, refusals handled, and the settings the trials ran with."""
+    trials, the least clearance, in how many trials the robot watched from a raised torso,
+    refusals handled, and the settings the trials ran with."""
     rows = experiment.rows()
     requests = [row for row in rows if row["takes"]]
     refusals = [row for row in rows if not row["takes"]]
@@ -216,6 +218,7 @@ def summarise(experiment: HandoverExperiment) -> dict:
             (min(row["clearance_table_m"], row["clearance_person_m"]) for row in ran),
             default=math.nan,
         ),
+        "watched_raised": sum(row["watch_lift_m"] > 0 for row in ran),
         "refusal_trials": len(refusals),
         "graceful_refusal_rate": rate(sum(row["graceful"] for row in refusals), len(refusals)),
         "time_limit_s": TIME_LIMIT_S,

@@ -22,9 +22,9 @@ CSV_COLUMNS = (
     "handed_over", "graceful", "failure", "outcome", "robot_failure", "reason", "person_holds",
     "table_contact", "person_contact", "knocked", "table_contact_s", "person_contact_s",
     "dropped_s", "gripped_s", "released_s", "clearance_table_m", "clearance_person_m",
-    "recognition_s", "planning_s", "execution_s", "seed", "person_height_m", "person_x_m",
-    "person_y_m", "person_yaw_rad", "person_moved_back_m", "sim_s", "wall_s", "arm_nearest",
-    "arm_error_deg", "error",
+    "recognition_s", "planning_s", "execution_s", "watch_lift_m", "seed", "person_height_m",
+    "person_x_m", "person_y_m", "person_yaw_rad", "person_moved_back_m", "sim_s", "wall_s",
+    "arm_nearest", "arm_error_deg", "error",
 )  # fmt: skip
 
 
@@ -57,6 +57,9 @@ def summary_lines(summary: dict) -> list[str]:
         f"least clearance to the table or the person: "
         f"{format_value(100 * summary['min_clearance_m'], '.1f', ' cm')}",
     ]  # fmt: skip
+    if summary["watched_raised"]:
+        lines.append(f"watched from a raised torso in {summary['watched_raised']} trials "
+                     "(the objects would have hidden a pointing arm)")  # fmt: skip
     if summary["refusal_trials"]:
         lines.append(f"refusals handled gracefully: {_percent(summary['graceful_refusal_rate'])} "
                      f"of {summary['refusal_trials']}")  # fmt: skip

@@ -214,7 +214,8 @@ class _Running:
 class Cycle:
     """The cycle's record: `phase`, `failure` (None unless failed), `reason`, when each phase
     began (`phase_times`, s), planning wall time (`planning_s`), when the target was
-    recognised (`recognised_time`) and which (`target`)."""
+    recognised (`recognised_time`) and which (`target`), and the arm lift (m) the robot
+    watched from (`watch_lift`; the supervisor's, 0 for the ready posture)."""
 
     phase: Phase = Phase.WATCH
     failure: Failure | None = None
@@ -223,6 +224,7 @@ class Cycle:
     recognised_time: float = math.nan
     phase_times: dict[str, float] = dataclasses.field(default_factory=dict)
     planning_s: float = 0.0
+    watch_lift: float = 0.0
 
     @property
     def over(self) -> bool:

@@ -38,8 +38,8 @@ from hsr_handover.handover.perceived_planner import (
     remember,
 )
 from hsr_handover.handover.plan_view import PlanView
-from hsr_handover.handover.watch_view import watch_posture
-from hsr_handover.hsr import ARM_JOINTS, COMMANDED_JOINTS, GRIPPER_KEY, HEAD_JOINTS
+from hsr_handover.handover.watch_view import LIFT, watch_posture
+from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY, HEAD_JOINTS
 from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.perception.facing import SteadyFacing
 from hsr_handover.planning.perceived_scene import PerceivedScene
@@ -47,7 +47,7 @@ from hsr_handover.systems.watching import WATCHING
 
 TICK_S = 0.1  # s between the supervisor's decisions
 PAN, TILT = (COMMANDED_JOINTS.index(joint) for joint in HEAD_JOINTS)
-ARM_ROWS = [COMMANDED_JOINTS.index(joint) for joint in ARM_JOINTS]
+BODY_ROWS = [row for row, joint in enumerate(COMMANDED_JOINTS) if joint not in HEAD_JOINTS]
 VIEW_AFTER_S = LOOK_DWELL_S * len(LOOK_AROUND_PANS)
 """s: where to watch from is first weighed as the look round turns back to where it began,
 the objects on both sides seen (a raise of 0.6 m then ends by about 5 s), and again at every
@@ -61,6 +61,8 @@ class _Raise:
 
     start: float
     motion: Motion
+
+    lift: float  # m of arm lift it rises to
 
     @property
     def end(self) -> float:
@@ -163,7 +165,8 @@ class HandoverSupervisor(LeafSystem):
         self._planner.perceive(memory.scene, memory.arm)
         planned = self._planner.posture(q, posture)
         if planned.ok:
-            memory.raised = _Raise(time, planned.motions[0][1])
+            lift = float(posture[self._robot.index(LIFT)])
+            memory.raised = _Raise(time, planned.motions[0][1], lift)
         memory.view_blocked = not planned.ok  # then it watches from where it is
 
     def _measured(self, context: Context) -> np.ndarray:
@@ -215,12 +218,12 @@ class HandoverSupervisor(LeafSystem):
         output.SetFromVector(command)
 
     def _resting(self, memory: _Memory, time: float) -> np.ndarray:
-        """The command while the cycle moves nothing: the ready posture, the arm (and with it
-        the torso) where it watches from."""
+        """The command while the cycle moves nothing: the ready posture, or the posture it
+        watches from (the move to it as planned, base and arm; the head looks round)."""
         command = self._ready.copy()
         if memory.raised is not None:
             q, v = memory.raised.motion.state(time - memory.raised.start)
-            n, rows = len(COMMANDED_JOINTS), ARM_ROWS
+            n, rows = len(COMMANDED_JOINTS), BODY_ROWS  # the head is the watcher's
             command[rows] = q[self._rows[rows]]
             command[[n + row for row in rows]] = v[self._rows[rows]]
         return command
@@ -237,7 +240,9 @@ class HandoverSupervisor(LeafSystem):
         output.SetFromVector([1.0 if watching else 0.0])
 
     def _calc_cycle(self, context: Context, output: AbstractValue) -> None:
-        output.set_value(dataclasses.replace(self._memory_of(context).cycle.cycle))
+        memory = self._memory_of(context)
+        lift = 0.0 if memory.raised is None else memory.raised.lift
+        output.set_value(dataclasses.replace(memory.cycle.cycle, watch_lift=lift))
 
     def _calc_plan_view(self, context: Context, output: AbstractValue) -> None:
         output.set_value(self._memory_of(context).cycle.view)
