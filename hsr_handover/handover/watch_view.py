@@ -44,6 +44,13 @@ OVER_TOP = 0.03
 limb, and the objects' tops are perceived a cm or two off."""
 BESIDE = 0.02
 """m beyond an object's footprint that a sight line passing it still counts as over it."""
+SHOULDER_SPAN = (0.2, 0.55)
+"""m: the least and most two lifted shoulder keypoints of one person lie apart (the joints are
+0.22 of the height apart, 0.32-0.45 m from 1.45 m to 2.05 m tall, and each keypoint is up to
+a few cm off its joint). A pointing arm in front of the chest can have a shoulder lifted onto it:
+one of the handover reference's people had a shoulder read 66 cm from the other, 60 cm before
+the body, and the view asked for a rise of 6 m."""
+SHOULDER_TILT = 0.15  # m: two shoulders' heights differ by less, leaning to point included
 LEAST_RISE = 0.02
 """m: a view that asks for less than this is clear enough; no move for it (the perceived
 shoulders and objects wander by a cm or so from frame to frame)."""
@@ -104,7 +111,7 @@ def watch_posture(
     objects: Sequence[ObjectShape],
 ) -> np.ndarray | None:
     """The HSR's posture (plant positions) to watch from: `q` with the torso raised by the
-    `camera_rise` the person's `shoulders` (the lifted keypoints, SHOULDER_DEPTH before the
+    `camera_rise` the person's two `shoulders` (the lifted keypoints, SHOULDER_DEPTH before the
     joints) and the `objects` (m, world) ask for, as far as the
     lift goes, and the arm folded down; None when the view from `q` needs no rise.
 
@@ -113,6 +120,8 @@ def watch_posture(
     hides the objects on that side (two of the staggered layout's four; seven wrong objects in
     twelve trials with the torso at 0.6 m, session 21). Folded down to its limit, the upper
     arm points down and forward, the tucked hand below it, out of view."""
+    if not objects or not plausible_shoulders(shoulders):
+        return None
     camera = _camera(robot, q).translation()
     joints = [behind(shoulder, camera, SHOULDER_DEPTH) for shoulder in shoulders]
     rise = camera_rise(camera, joints, objects)
@@ -126,6 +135,15 @@ def watch_posture(
     raised[torso_at] = 0.5 * raised[lift_at]
     raised[flex_at] = lower[flex_at]
     return raised
+
+
+def plausible_shoulders(shoulders: Sequence[np.ndarray]) -> bool:
+    """Whether two lifted shoulders could be one person's (SHOULDER_SPAN, SHOULDER_TILT)."""
+    if len(shoulders) != 2:
+        return False
+    apart = shoulders[0] - shoulders[1]
+    span = float(np.linalg.norm(apart))
+    return bool(SHOULDER_SPAN[0] <= span <= SHOULDER_SPAN[1] and abs(apart[2]) <= SHOULDER_TILT)
 
 
 def _camera(robot: PlanningScene, q: np.ndarray):

@@ -38,7 +38,7 @@ from hsr_handover.handover.perceived_planner import (
     remember,
 )
 from hsr_handover.handover.plan_view import PlanView
-from hsr_handover.handover.watch_view import LIFT, watch_posture
+from hsr_handover.handover.watch_view import LIFT, plausible_shoulders, watch_posture
 from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY, HEAD_JOINTS
 from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.perception.facing import SteadyFacing
@@ -50,8 +50,8 @@ PAN, TILT = (COMMANDED_JOINTS.index(joint) for joint in HEAD_JOINTS)
 BODY_ROWS = [row for row, joint in enumerate(COMMANDED_JOINTS) if joint not in HEAD_JOINTS]
 VIEW_AFTER_S = LOOK_DWELL_S * len(LOOK_AROUND_PANS)
 """s: where to watch from is first weighed as the look round turns back to where it began,
-the objects on both sides seen (a raise of 0.6 m then ends by about 5 s), and again at every
-decision until a request is recognised, as more objects come into view."""
+the objects on both sides seen (a raise of 0.6 m then ends by about 5 s), and again whenever
+another object comes into view until a request is recognised."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -85,6 +85,7 @@ class _Memory:
     head: tuple[float, float] | None = None  # (pan, tilt) rad while the cycle looks at a point
     scene: PerceivedScene | None = None
     raised: _Raise | None = None  # None: it watches from the ready posture
+    watched: tuple[list[np.ndarray], frozenset[str]] | None = None  # shoulders, objects weighed
     view_blocked: bool = False  # a raise found no way: it watches from where it is
 
 
@@ -147,17 +148,28 @@ class HandoverSupervisor(LeafSystem):
         memory.head = None if point is None else look_at(self._robot, percepts.q, point)
 
     def _raise_view(self, context: Context, skeleton, memory: _Memory) -> None:
-        """Raise the torso if the objects would hide a pointing arm (`watch_posture`), from
-        where it stands: while it watches for a request, sees both shoulders and an object, and
-        is not already rising."""
+        """Raise the torso if the objects would hide a pointing arm (`watch_posture`): first
+        when both shoulders and an object are seen, then again whenever an object is seen for
+        the first time, with the shoulders as first seen (the person at rest: pointing, they
+        lean in and their arm can take a shoulder's keypoint); only while it watches for a
+        request and is not already rising."""
         time = context.get_time()
         raising = memory.raised is not None and time < memory.raised.end
         if memory.cycle.cycle.target is not None or memory.view_blocked or raising:
             return
-        shoulders = [_keypoint(skeleton, index) for index in _SHOULDERS]
         objects = memory.scene.objects if memory.scene is not None else ()
-        if any(point is None for point in shoulders) or not objects:
+        labels = frozenset(shape.label for shape in objects)
+        if memory.watched is None:
+            shoulders = [_keypoint(skeleton, index) for index in _SHOULDERS]
+            if any(point is None for point in shoulders) or not plausible_shoulders(shoulders):
+                return
+        elif labels <= memory.watched[1]:
+            return  # weighed already with these objects
+        else:
+            shoulders = memory.watched[0]
+        if not objects:
             return
+        memory.watched = (shoulders, labels)
         q = self._measured(context)
         posture = watch_posture(self._robot, q, shoulders, objects)
         if posture is None:

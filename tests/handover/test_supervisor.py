@@ -123,15 +123,22 @@ def test_the_persons_arm_faces_the_way_the_chest_faced_while_it_watched(supervis
     np.testing.assert_allclose(memory.arm.frame[:, 0], facing, atol=1e-9)
 
 
-def _watched_from(system, context, table: float, until: float = VIEW_AFTER_S + 4.0) -> np.ndarray:
-    """The command once the look round is over, with the synthetic person seated behind three
-    objects standing on a table `table` m high, and the joints where they were commanded."""
+_PLACES = {"red": (0.78, -0.3), "yellow": (0.92, -0.08), "green": (0.8, 0.14)}
+
+
+def _boxes(table: float, labels=tuple(_PLACES)) -> tuple[ObjectShape, ...]:
+    """Boxes 12 cm tall standing on a table `table` m high, between the robot and the person."""
+    return tuple(
+        ObjectShape(label, BOX, np.array(_PLACES[label]), np.array([0.06, 0.06]), 0.0, table, 0.12)
+        for label in labels
+    )
+
+
+def _watched_from(system, context, objects, until: float = VIEW_AFTER_S + 4.0) -> np.ndarray:
+    """The command once the look round is over, with the synthetic person seated behind the
+    `objects` (perceived), and the joints where they were commanded."""
     points, confidence = keypoints()
     skeleton = Skeleton(np.zeros((18, 2)), points, confidence, torso_forward=np.array([-1.0, 0, 0]))
-    objects = tuple(
-        ObjectShape(label, BOX, np.array([x, y]), np.array([0.06, 0.06]), 0.0, table, 0.12)
-        for label, x, y in (("red", 0.78, -0.3), ("yellow", 0.92, -0.08), ("green", 0.8, 0.14))
-    )
     system.GetInputPort("skeleton").FixValue(context, skeleton)
     system.GetInputPort("perceived_scene").FixValue(context, PerceivedScene(None, objects))
     simulator = Simulator(system, context)
@@ -143,7 +150,7 @@ def _watched_from(system, context, table: float, until: float = VIEW_AFTER_S + 4
 
 def test_it_watches_from_a_raised_torso_when_the_objects_would_hide_a_pointing_arm(supervisor):
     system, context, ready = supervisor
-    command = _watched_from(system, context, 0.86)
+    command = _watched_from(system, context, _boxes(0.86))
     lift, flex = (COMMANDED_JOINTS.index(joint) for joint in ("arm_lift_joint", "arm_flex_joint"))
     assert command[lift] > 0.1  # raised ...
     assert command[flex] < -2.5  # ... with the arm folded down out of the camera's view
@@ -154,11 +161,16 @@ def test_it_watches_from_a_raised_torso_when_the_objects_would_hide_a_pointing_a
 
 def test_it_watches_from_the_ready_posture_over_a_low_table(supervisor):
     system, context, ready = supervisor
-    np.testing.assert_allclose(_watched_from(system, context, 0.72), ready)
+    np.testing.assert_allclose(_watched_from(system, context, _boxes(0.72)), ready)
 
 
-def test_it_rises_later_when_objects_that_would_hide_the_arm_come_into_view(supervisor):
+def test_it_rises_later_when_an_object_that_would_hide_the_arm_comes_into_view(supervisor):
     system, context, ready = supervisor
-    np.testing.assert_allclose(_watched_from(system, context, 0.72), ready)
+    low = _boxes(0.72, ("red", "green"))
+    np.testing.assert_allclose(_watched_from(system, context, low), ready)
     lift = COMMANDED_JOINTS.index("arm_lift_joint")
-    assert _watched_from(system, context, 0.86, until=context.get_time() + 4.0)[lift] > 0.1
+    # The same objects perceived taller are not weighed again; another one seen is.
+    taller = _boxes(0.86, ("red", "green"))
+    assert _watched_from(system, context, taller, until=context.get_time() + 1.0)[lift] == 0.0
+    more = (*low, *_boxes(0.86, ("yellow",)))
+    assert _watched_from(system, context, more, until=context.get_time() + 4.0)[lift] > 0.1

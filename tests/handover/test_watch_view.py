@@ -13,6 +13,7 @@ from hsr_handover.handover.watch_view import (
     POINTING_REACH,
     SHOULDER_DEPTH,
     camera_rise,
+    plausible_shoulders,
     reach_points,
     watch_posture,
 )
@@ -133,3 +134,19 @@ def test_folded_the_arm_is_out_of_the_cameras_view_where_upright_it_is_not(robot
     upright = raised.copy()
     upright[robot.index(FLEX)] = 0.0
     assert _arm_pixels_in_view(robot, upright) > 0
+
+
+@pytest.mark.parametrize(
+    ("other", "plausible"),
+    [
+        ([1.66, -0.36, 0.99], True),  # a short person's, 34 cm apart
+        ([1.06, -0.08, 1.03], False),  # lifted onto the pointing arm: 66 cm off (reference 45)
+        ([1.74, -0.12, 0.99], False),  # 9 cm apart
+        ([1.66, -0.36, 0.79], False),  # 20 cm lower
+    ],
+)
+def test_shoulders_that_could_not_be_one_persons_ask_for_nothing(robot, other, plausible):
+    shoulders = [SHOULDERS[0], np.array(other)]
+    assert plausible_shoulders(shoulders) is plausible
+    posture = watch_posture(robot, _ready(robot), shoulders, _objects(0.80))
+    assert (posture is not None) is plausible
