@@ -18,6 +18,7 @@ import math
 from collections.abc import Sequence
 
 import numpy as np
+from pydrake.math import RigidTransform
 
 from hsr_handover.hsr import CAMERA_FRAME, TORSO_JOINT
 from hsr_handover.perception.coco18 import keypoint_index
@@ -29,9 +30,9 @@ LIFT = "arm_lift_joint"
 FLEX = "arm_flex_joint"
 SHOULDER_DEPTH = BONES[(keypoint_index("neck"), keypoint_index("r_shoulder"))]
 """m from a lifted shoulder keypoint, on the body's surface facing the camera, back to the
-joint the arm turns about. Taken at the keypoint, the shoulders of the handover reference's
-people came 8-12 cm nearer the robot than they are, and their predicted wrists as near the
-objects as the staggered layout's (a margin of -0.6 cm to the rise, against -5 cm here)."""
+joint the arm turns about. Taken at the keypoints, the handover reference's shoulders came
+8-12 cm nearer the robot than they are, and the nearest sight line of its first twelve trials
+passed 0.6 cm short of asking for a rise; from the joints, 5 cm."""
 POINTING_REACH = 0.5
 """m from the shoulder to the wrist of an arm pointing at an object on the table (the
 simulated 1.58 m person's reads 0.51 m; most adults' are longer, so their wrists are
@@ -94,8 +95,8 @@ def _height_to_clear(camera: np.ndarray, point: np.ndarray, shape: ObjectShape) 
     length_sq = float(span @ span)
     if length_sq < 1e-12:
         return -math.inf
-    along = float((shape.center - start) @ span) / length_sq  # 0 at the camera, 1 at the point
     offset = shape.center - start
+    along = float(offset @ span) / length_sq  # 0 at the camera, 1 at the point
     across = abs(float(span[0] * offset[1] - span[1] * offset[0])) / math.sqrt(length_sq)
     if not 0.0 < along < 1.0 or across > shape.radius + BESIDE:
         return -math.inf
@@ -112,8 +113,9 @@ def watch_posture(
 ) -> np.ndarray | None:
     """The HSR's posture (plant positions) to watch from: `q` with the torso raised by the
     `camera_rise` the person's two `shoulders` (the lifted keypoints, SHOULDER_DEPTH before the
-    joints) and the `objects` (m, world) ask for, as far as the
-    lift goes, and the arm folded down; None when the view from `q` needs no rise.
+    joints) and the `objects` (m, world) ask for, as far as the lift goes, and the arm folded
+    down. None when the view from `q` asks for less than LEAST_RISE, the lift is at its top,
+    or the shoulders could not be one person's.
 
     The lift raises the arm twice as fast as the head: raised 0.34 m with the arm upright, its
     wrist stands 11 cm below the camera and 19 cm before it, in the view's lower half, and
@@ -146,6 +148,6 @@ def plausible_shoulders(shoulders: Sequence[np.ndarray]) -> bool:
     return bool(SHOULDER_SPAN[0] <= span <= SHOULDER_SPAN[1] and abs(apart[2]) <= SHOULDER_TILT)
 
 
-def _camera(robot: PlanningScene, q: np.ndarray):
+def _camera(robot: PlanningScene, q: np.ndarray) -> RigidTransform:
     robot.plant.SetPositions(robot.plant_context, q)
     return robot.plant.GetFrameByName(CAMERA_FRAME).CalcPoseInWorld(robot.plant_context)

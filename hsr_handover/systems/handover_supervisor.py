@@ -17,6 +17,7 @@ watches for a request, else 0: the perception that serves only the watch rests, 
 from __future__ import annotations
 
 import dataclasses
+from typing import NamedTuple
 
 import numpy as np
 from pydrake.common.value import AbstractValue
@@ -32,11 +33,7 @@ from hsr_handover.handover.look_round import (
     LOOK_ROUND_S,
     look_round_pan,
 )
-from hsr_handover.handover.perceived_planner import (
-    PerceivedPlanner,
-    pads_centre,
-    remember,
-)
+from hsr_handover.handover.perceived_planner import PerceivedPlanner, pads_centre, remember
 from hsr_handover.handover.plan_view import PlanView
 from hsr_handover.handover.watch_view import LIFT, plausible_shoulders, watch_posture
 from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY, HEAD_JOINTS
@@ -56,13 +53,12 @@ another object comes into view until a request is recognised."""
 
 @dataclasses.dataclass(frozen=True)
 class _Raise:
-    """The move to the posture it watches from (plant positions over time), begun at `start`
-    s."""
+    """The move to the posture it watches from: the `motion` (plant positions over time),
+    begun at `start` s, and the arm `lift` (m) it ends at."""
 
     start: float
     motion: Motion
-
-    lift: float  # m of arm lift it rises to
+    lift: float
 
     @property
     def end(self) -> float:
@@ -70,6 +66,13 @@ class _Raise:
 
     def __deepcopy__(self, memo: dict) -> _Raise:
         return self  # never changed once made
+
+
+class _Weighed(NamedTuple):
+    """What the view was last weighed with: the shoulders as first seen, the objects' labels."""
+
+    shoulders: list[np.ndarray]
+    labels: frozenset[str]
 
 
 @dataclasses.dataclass
@@ -85,7 +88,7 @@ class _Memory:
     head: tuple[float, float] | None = None  # (pan, tilt) rad while the cycle looks at a point
     scene: PerceivedScene | None = None
     raised: _Raise | None = None  # None: it watches from the ready posture
-    watched: tuple[list[np.ndarray], frozenset[str]] | None = None  # shoulders, objects weighed
+    weighed: _Weighed | None = None
     view_blocked: bool = False  # a raise found no way: it watches from where it is
 
 
@@ -159,17 +162,17 @@ class HandoverSupervisor(LeafSystem):
             return
         objects = memory.scene.objects if memory.scene is not None else ()
         labels = frozenset(shape.label for shape in objects)
-        if memory.watched is None:
+        if memory.weighed is None:
             shoulders = [_keypoint(skeleton, index) for index in _SHOULDERS]
             if any(point is None for point in shoulders) or not plausible_shoulders(shoulders):
                 return
-        elif labels <= memory.watched[1]:
+        elif labels <= memory.weighed.labels:
             return  # weighed already with these objects
         else:
-            shoulders = memory.watched[0]
+            shoulders = memory.weighed.shoulders
         if not objects:
             return
-        memory.watched = (shoulders, labels)
+        memory.weighed = _Weighed(shoulders, labels)
         q = self._measured(context)
         posture = watch_posture(self._robot, q, shoulders, objects)
         if posture is None:
