@@ -315,3 +315,29 @@ def test_a_grasp_plan_is_timed_and_clear_every_10_ms(scene, arm_map):
 def test_an_unreachable_target_plans_nothing_and_says_why(scene, arm_map):
     plan = plan_grasp(scene, arm_map, "purple", _ready(scene), joint_limits(scene.plant))
     assert not plan.ok and plan.motions == () and "purple" in plan.reason
+
+
+def test_a_posture_plan_ends_at_the_posture_clear_of_the_table(scene):
+    """The watch view's move (`plan_posture`): the torso raised 0.25 m and the arm folded down
+    from the ready posture, the robot's centre 0.55 m from the table's near edge."""
+    scene.set_positions({"wrist_flex_joint": -1.57})
+    q_now = scene.positions()
+    scene.set_positions({"arm_lift_joint": 0.5, "arm_flex_joint": -2.62, "wrist_flex_joint": -1.57})
+    goal = scene.positions()
+    plan = planner.plan_posture(scene, q_now, goal, joint_limits(scene.plant))
+    assert plan.ok, plan.reason
+    (motion,) = plan.motions
+    assert motion.name == planner.POSTURE and motion.ignore == ()
+    _, positions = motion.timed.sample(0.01)
+    np.testing.assert_allclose(positions[0], q_now, atol=1e-6)
+    np.testing.assert_allclose(positions[-1], goal, atol=1e-6)
+    assert timed_clearance(scene, motion) >= COLLISION_BOUND - 0.012
+
+
+def test_a_posture_inside_the_table_plans_nothing_and_says_why(scene):
+    scene.set_positions({})
+    q_now = scene.positions()
+    scene.set_positions({"base_x_joint": 0.7, "arm_lift_joint": 0.2})
+    inside = scene.positions()
+    plan = planner.plan_posture(scene, q_now, inside, joint_limits(scene.plant))
+    assert not plan.ok and plan.motions == () and plan.reason.startswith(planner.POSTURE)
