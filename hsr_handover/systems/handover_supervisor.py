@@ -59,10 +59,19 @@ class _Raise:
     start: float
     motion: Motion
     lift: float
+    arrived: tuple[np.ndarray, np.ndarray] = dataclasses.field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        # Held once it is over: the command is read at every plant step.
+        object.__setattr__(self, "arrived", self.motion.state(self.motion.duration))
 
     @property
     def end(self) -> float:
         return self.start + self.motion.duration
+
+    def state(self, time: float) -> tuple[np.ndarray, np.ndarray]:
+        """Positions and velocities (plant order) at `time` s."""
+        return self.arrived if time >= self.end else self.motion.state(time - self.start)
 
     def __deepcopy__(self, memo: dict) -> _Raise:
         return self  # never changed once made
@@ -237,7 +246,7 @@ class HandoverSupervisor(LeafSystem):
         watches from (the move to it as planned, base and arm; the head looks round)."""
         command = self._ready.copy()
         if memory.raised is not None:
-            q, v = memory.raised.motion.state(time - memory.raised.start)
+            q, v = memory.raised.state(time)
             n, rows = len(COMMANDED_JOINTS), BODY_ROWS  # the head is the watcher's
             command[rows] = q[self._rows[rows]]
             command[[n + row for row in rows]] = v[self._rows[rows]]
