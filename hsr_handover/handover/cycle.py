@@ -81,6 +81,11 @@ with a wrist held out 32 cm off). A hand that reaches for the object moves. Held
 makes no difference: the skeleton cannot tell them apart (the seated person's forearm rests
 level, its wrist about 29 cm below the shoulder; trial 53's held-out wrist was 30 cm below),
 and a person who does not take the object has it brought nearer, then kept."""
+COMING = 0.02
+"""m a followed hand comes toward the palm, from where it was as the robot set off toward it,
+that means it reaches for the object (the wrist's keypoint wanders under 1 cm along that line
+in a decision or two; a reaching hand is hidden by the robot's own arm within 0.2 s of
+moving 3 cm)."""
 HAND_STILL = 0.04
 """m: a hand that stays within this of where it came to rest is waiting (the skeleton's wrist
 wanders 1-2 cm); one that moves farther comes to rest again where it is now."""
@@ -253,6 +258,7 @@ class HandoverCycle:
         self._hand_rest: tuple[np.ndarray, float] | None = None  # (where, since when) presenting
         self._held_width = math.inf  # the opening closed on the object
         self._followed_at = -math.inf  # when it last tried to follow the hand
+        self._followed_hand: np.ndarray | None = None  # where the hand was, as it was followed
         self._object_start: np.ndarray | None = None
         self._emptied_at: float | None = None  # when the fingers closed on nothing, presenting
         self._after_retreat: tuple[Phase, Failure | None, str] = (Phase.DONE, None, "")
@@ -403,6 +409,9 @@ class HandoverCycle:
         if p.hand is None or p.palm is None:
             return
         self._note_hand_rest(p)
+        if self._hand_coming(p):
+            self._hold_still(p)  # the person reaches for it: hold it where it is
+            return
         if not (_distance(p.hand, p.palm) > FOLLOW_BEYOND or self._waiting_short(p)):
             return
         if p.time - self._followed_at > FOLLOW_EVERY_S and not self._moving(p.time):
@@ -413,6 +422,17 @@ class HandoverCycle:
         reference run's trial 53) rests only once it has stopped."""
         if self._hand_rest is None or _distance(p.hand, self._hand_rest[0]) > HAND_STILL:
             self._hand_rest = (p.hand, p.time)
+
+    def _hand_coming(self, p: Percepts) -> bool:
+        """Whether the hand the robot is following has come over COMING toward the palm:
+        the person reaches for the object, aimed where it was, and following on would bring
+        the fingers into the hand (the standing layout's trial 25: a hand that waited 53 cm off
+        reached as the robot set off toward it, and met the fingers 22 cm on)."""
+        followed = self._followed_hand
+        if followed is None or self._running is None or self._running.name != "follow":
+            return False
+        toward = (p.palm - followed) / _distance(followed, p.palm)
+        return float((p.hand - followed) @ toward) > COMING
 
     def _waiting_short(self, p: Percepts) -> bool:
         """Whether the hand has waited still for NUDGE_S without coming for an object held
@@ -486,7 +506,7 @@ class HandoverCycle:
 
     def _follow(self, p: Percepts) -> None:
         """Re-target state to state (ruckig) to hold the object out at the hand."""
-        self._followed_at = p.time
+        self._followed_at, self._followed_hand = p.time, p.hand
         toward = (p.palm - p.hand) / _distance(p.hand, p.palm)
         offer = p.hand + OFFER * toward
         planned = self._planner.follow(p.q, np.zeros_like(p.q), offer, self._held)

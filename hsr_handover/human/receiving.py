@@ -21,7 +21,12 @@ from scipy.spatial.distance import cdist
 
 from hsr_handover.human.aiming import arm_points, reaching_arm_angles
 from hsr_handover.human.behavior import REACHES, Action, rest_posture, target_posture
-from hsr_handover.human.body import BodyDimensions, arm_joint_indices
+from hsr_handover.human.body import (
+    HAND_THICKNESS,
+    HAND_WIDTH,
+    BodyDimensions,
+    arm_joint_indices,
+)
 
 STILL_SPEED = 0.05  # m/s: an object moving slower than this is being held out
 STILL_S = 0.3  # s it must stay still (and in reach) to count as offered
@@ -50,9 +55,12 @@ TURNS_DEG = (0.0, 30.0, -30.0, 60.0, -60.0, 90.0, -90.0)
 """Degrees round the object, about the vertical, from straight between it and the shoulder."""
 TILTS_DEG = (0.0, -30.0, 30.0)  # level with the line to the shoulder, then from below, above
 PATH_SAMPLES = 8  # arm poses checked along the move to the object
-CLEAR = 0.05
-"""m from the forearm's and hand's axes to the robot's gripper (its capsules): half the hand's
-8 cm width and a centimetre to spare."""
+CLEAR = math.hypot(HAND_WIDTH, HAND_THICKNESS) / 2 + 0.025
+"""m from the forearm's and hand's axes to the robot's gripper (its capsules): the hand box's
+half diagonal (4.3 cm) and 2.5 cm to spare. The arm follows its move a little off the straight
+line in joint space that is checked, and the finger pads' box corners stand 0.4 cm outside
+their capsules: with 1 cm to spare, a hand planned 6 cm off the axis brushed a finger on its
+way in (the staggered layout's seed 2, trial 11)."""
 TUG_S = 0.3  # s from closing the hand to the tug
 TUG = 0.06
 """m the hand draws back first, the way it came (out of the gripper's free side): the tug a

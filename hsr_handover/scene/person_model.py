@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from hsr_handover.human.behavior import joint_limits
-from hsr_handover.human.body import BodyDimensions
+from hsr_handover.human.body import HAND_THICKNESS, HAND_WIDTH, BodyDimensions
 from hsr_handover.scene.sdf_shapes import (
     box_geometry,
     box_inertia,
@@ -147,7 +147,7 @@ def _arm(body: BodyDimensions, side: str) -> str:
     fore_geometry = capsule_shape(
         f"{p}forearm", 0.035, body.forearm - 0.07, (0, 0, -body.forearm / 2, 0, 0, 0), SKIN
     )
-    hand_size = (0.08, 0.03, body.hand)
+    hand_size = (HAND_WIDTH, HAND_THICKNESS, body.hand)
     hand_geometry = shape(
         f"{p}hand", box_geometry(hand_size), (0, 0, -body.hand / 2, 0, 0, 0), SKIN
     )

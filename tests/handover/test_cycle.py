@@ -10,6 +10,7 @@ import pytest
 
 from hsr_handover.handover.cycle import (
     CLOSED,
+    COMING,
     EMPTY_S,
     LET_GO,
     LOOK_S,
@@ -379,6 +380,25 @@ def test_a_hand_that_moves_is_not_followed_however_long_it_takes():
         world.hand = world.palm + [0.3 - 0.01 * k, 0, 0.1]  # reaching for the object
         world.tick()
     assert world.planner.asked[-1][0] == "carry"
+
+
+def test_a_followed_hand_that_comes_for_the_object_stops_the_arm_where_it_is():
+    world = _presenting()
+    held_out = world.palm + [0.0, 0.5, 0.0]
+    world.hand = held_out
+    world.tick()
+    assert world.planner.asked[-1][0] == "follow"
+    world.hand = held_out + [0.01, -COMING / 2, 0.0]  # the wrist's keypoint wanders
+    world.tick()
+    assert world.cycle.command(world.time + 0.3)[0] is not None  # still on its way
+    world.hand = held_out + [0.0, -1.5 * COMING, 0.0]  # the person reaches for it
+    world.tick()
+    q = world.q.copy()
+    np.testing.assert_allclose(world.cycle.command(world.time + 0.3)[0], q)  # stopped there
+    world.hand = None  # hidden by the robot's own arm: it stays stopped
+    world.tick(0.5)
+    np.testing.assert_allclose(world.cycle.command(world.time)[0], q)
+    assert world.cycle.cycle.phase is Phase.PRESENT
 
 
 def test_a_tug_while_following_the_hand_stops_the_arm_and_then_it_lets_go():
