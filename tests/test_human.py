@@ -8,6 +8,7 @@ import pytest
 from hsr_handover.human.aiming import arm_points, pointing_arm_angles, reaching_arm_angles
 from hsr_handover.human.behavior import (
     MIN_MOVE_TIME,
+    OVER_TABLE,
     PEAK_JOINT_SPEED,
     Action,
     PostureTimeline,
@@ -17,7 +18,12 @@ from hsr_handover.human.behavior import (
     rest_posture,
     target_posture,
 )
-from hsr_handover.human.body import PERSON_JOINTS, BodyDimensions
+from hsr_handover.human.body import (
+    HAND_THICKNESS,
+    PERSON_JOINTS,
+    BodyDimensions,
+    arm_joint_indices,
+)
 from hsr_handover.intent.rays import angle_deg
 
 BODY = BodyDimensions.from_height(1.70, seated=True)
@@ -137,6 +143,38 @@ def test_the_hand_rises_from_rest_before_it_reaches_out_over_a_table():
     ahead = hand[:, 0] > hand[0, 0] + 0.05  # past where a table's edge in front would be
     assert ahead.any()
     assert hand[ahead, 2].min() >= hand[0, 2] + 0.03
+
+
+def _hand_bottom(body: BodyDimensions, q: np.ndarray, arm: str) -> float:
+    points = arm_points(body, arm, q[arm_joint_indices(arm)])
+    return min(points["wrist"][2], points["tips"][2]) - HAND_THICKNESS / 2
+
+
+def test_seated_hands_rest_over_a_table_higher_than_the_resting_forearms():
+    level = rest_posture(BODY)
+    np.testing.assert_array_equal(rest_posture(BODY, 0.62), level)  # a low table changes nothing
+    low = min(_hand_bottom(BODY, level, arm) for arm in ("right", "left"))
+    high = rest_posture(BODY, low + 0.05)
+    for arm in ("right", "left"):
+        assert _hand_bottom(BODY, high, arm) >= low + 0.05 + OVER_TABLE
+        elbow = arm_joint_indices(arm)[3]
+        assert high[elbow] < level[elbow]  # raised by bending the elbow, the shoulder as it was
+    unchanged = [i for i in range(len(PERSON_JOINTS)) if PERSON_JOINTS[i][2:] != "elbow"]
+    np.testing.assert_array_equal(high[unchanged], level[unchanged])
+    standing = BodyDimensions.from_height(1.70, seated=False)  # hands hang beside the body
+    np.testing.assert_array_equal(rest_posture(standing, 1.2), rest_posture(standing))
+
+
+def test_at_a_high_table_the_script_starts_returns_to_and_keeps_the_raised_rest():
+    table_top = 0.80
+    rest = rest_posture(BODY, table_top)
+    pointing = Action("point_at", 0.5, 2.5, BODY.shoulder("right") + [0.8, -0.2, -0.2], "right")
+    changes = posture_changes(BODY, [pointing], table_top)
+    np.testing.assert_array_equal(changes[0][1], rest)
+    np.testing.assert_array_equal(changes[-1][1], rest)  # back to rest at its end
+    left = arm_joint_indices("left")
+    for _, posture in changes:  # the other arm keeps resting over the table
+        np.testing.assert_array_equal(posture[left], rest[left])
 
 
 def test_timeline_interrupted_move_starts_where_the_body_is():

@@ -33,6 +33,7 @@ from hsr_handover.systems.hand_grip import GRIP_FREQUENCY, GRIP_PERIOD, GrippedB
 BODY = BodyDimensions.from_height(1.7, seated=True)
 SHOULDER = BODY.shoulder("right")
 REST_ARM = rest_posture(BODY)[arm_joint_indices("right")]
+REST_LEFT = rest_posture(BODY)[arm_joint_indices("left")]
 ON_TABLE = SHOULDER + [0.9, 0.0, -0.3]  # out of reach, where it stood
 OFFERED = SHOULDER + [0.4, 0.05, -0.05]  # held out within reach
 
@@ -54,6 +55,17 @@ def test_an_object_held_out_still_within_reach_is_reached_for_after_the_reaction
     assert start == pytest.approx(0.1 + STILL_S + 0.4, abs=0.06)
     hand = arm_points(BODY, "right", posture[arm_joint_indices("right")])["hand"]
     np.testing.assert_allclose(hand, reach_point(BODY, "right", OFFERED), atol=0.01)
+
+
+def test_at_a_high_table_the_other_arm_keeps_resting_over_it_while_the_hand_reaches():
+    table_top = 0.85  # over the level forearms' hands
+    raised = rest_posture(BODY, table_top)
+    receiver = Receiver(BODY, ReceivingParams(reaction_s=0.4), table_top)
+    receiver.update(0.0, {"cup": ON_TABLE}, SHOULDER)
+    changes = _offer(receiver, start=0.05)
+    left = arm_joint_indices("left")
+    assert len(changes) == 1 and not np.allclose(raised[left], REST_LEFT)
+    np.testing.assert_array_equal(changes[0][1][left], raised[left])
 
 
 def test_an_object_resting_where_it_stood_is_not_offered_even_within_reach():

@@ -19,13 +19,14 @@ def test_a_person_drawn_into_the_table_sits_back_until_clear():
     person = scenario.person
     x, y = person.position
     facing = (math.cos(person.yaw), math.sin(person.yaw))
-    person.position = [x + 0.1 * facing[0], y + 0.1 * facing[1]]  # drawn 10 cm toward it
+    drawn = 0.3  # toward the table: the hands rest over its top, the knees reach its edge
+    person.position = [x + drawn * facing[0], y + drawn * facing[1]]
     assert initial_overlaps(build_station(scenario))
     moved = sit_clear(scenario)
-    assert 0.0 < moved < 0.1
+    assert 0.0 < moved < drawn
     assert not initial_overlaps(build_station(scenario))
     back = [person.position[0] - x, person.position[1] - y]
-    assert back[0] * facing[0] + back[1] * facing[1] == pytest.approx(0.1 - moved)
+    assert back[0] * facing[0] + back[1] * facing[1] == pytest.approx(drawn - moved)
 
 
 def test_a_person_already_clear_stays_where_drawn():

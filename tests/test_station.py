@@ -10,6 +10,7 @@ from pydrake.math import RigidTransform
 from pydrake.systems.analysis import Simulator
 
 from hsr_handover import interface
+from hsr_handover.experiments.seating import sit_clear
 from hsr_handover.hsr import COMMANDED_JOINTS, PALM_FRAME
 from hsr_handover.intent.rays import angle_deg
 from hsr_handover.robot import ready_command
@@ -246,3 +247,25 @@ def test_a_dropped_object_lands_on_the_floor_and_the_hsr_still_drives(station_al
     )
     measured = diagram.GetOutputPort(interface.HSR_STATE_MEASURED).Eval(context)
     assert measured[COMMANDED_JOINTS.index("base_x_joint")] == pytest.approx(-0.1, abs=2e-3)
+
+
+def test_a_seated_person_points_over_a_high_tables_edge_from_close_by():
+    """At a 0.80 m table, forearms resting level put the hands under its top, the fingertips a
+    centimetre from its edge: the arm swung out into the edge and never pointed (the staggered
+    layout's trials 39 and 43 of seed 1). The hands rest over the top instead, and the arm
+    points at the cup."""
+    scenario = load_scenario(SCENARIOS / "point_left.yaml")
+    scenario.table.height = 0.80
+    scenario.person.position = [1.65, 0.0]  # fingertips resting level would touch the edge
+    scenario.person.imprecision = ImprecisionConfig(0.0, 1.0, 0.0)
+    scenario.camera.rate_hz = 1.0
+    sit_clear(scenario)
+    simulation = build_simulation(scenario)
+    station = simulation.station
+    simulator = Simulator(simulation.diagram)
+    simulator.AdvanceTo(3.0)
+    context = simulator.get_context()
+    target = next(o for o in scenario.objects if o.name == "red_cup")
+    shoulder = _frame_position(station, context, "coco_r_shoulder")
+    wrist = _frame_position(station, context, "coco_r_wrist")
+    assert angle_deg(wrist - shoulder, object_center(scenario, target) - shoulder) < 5.0

@@ -13,6 +13,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from hsr_handover.human.aiming import (
+    arm_points,
     head_angles,
     pointing_arm_angles,
     reaching_arm_angles,
@@ -20,6 +21,7 @@ from hsr_handover.human.aiming import (
     rot_z,
 )
 from hsr_handover.human.body import (
+    HAND_THICKNESS,
     PERSON_JOINTS,
     BodyDimensions,
     arm_joint_indices,
@@ -38,6 +40,13 @@ MIN_MOVE_TIME = 0.6  # s
 # sweeps the hand into the table's edge when the person sits or stands close to it.
 LIFT_ELBOW = -0.8
 LIFT_SHARE = 0.5
+OVER_TABLE = 0.02
+"""m a seated person's resting hands keep over the table's top. Forearms resting level sit at
+0.70-0.76 m, under the top of a high table (0.80 m): a hand whose tip rested a few cm from the
+table's edge met the edge as the arm swung out, and stayed there for the whole gesture (the
+staggered layout's trials 39 and 43 of seed 1 never pointed). At such a table the forearms rest
+tilted up, the elbows bent further, as people hold their hands over a table's edge."""
+RAISE_STEP = 0.1  # rad: the elbow is bent by steps of this until the hand is over the table
 _MIN_JERK_PEAK = 1.875  # peak of d/dtau of the minimum-jerk profile
 
 _INDEX = {name: i for i, name in enumerate(PERSON_JOINTS)}
@@ -73,18 +82,35 @@ class Action:
     arm_point: np.ndarray | None = None
 
 
-def rest_posture(body: BodyDimensions) -> np.ndarray:
+def rest_posture(body: BodyDimensions, table_top: float | None = None) -> np.ndarray:
     """Head level and a little down; standing, arms hang. Seated, the forearms rest level in
     front of the body (as on armrests), above table height: every joint-space move from there
     to a pointing or reaching arm then keeps the hand above the table top rather than sweeping
-    it under the table's edge."""
+    it under the table's edge. At a table whose top (`table_top`, m, person frame; None: no
+    table) is higher than that, the seated person's hands rest OVER_TABLE over it."""
     q = np.zeros(len(PERSON_JOINTS))
     q[_INDEX["neck_pitch"]] = 0.2
     for prefix, sign in (("r_", -1.0), ("l_", 1.0)):
         q[_INDEX[prefix + "shoulder_roll"]] = 0.08 * sign
         q[_INDEX[prefix + "shoulder_pitch"]] = -0.25 if body.seated else 0.0
         q[_INDEX[prefix + "elbow"]] = -1.5 if body.seated else -0.15
+    if body.seated and table_top is not None:
+        for arm in ("right", "left"):
+            _raise_hand_over(body, arm, q, table_top + OVER_TABLE)
     return q
+
+
+def _raise_hand_over(body: BodyDimensions, arm: str, q: np.ndarray, height: float) -> None:
+    """Bend the `arm`'s elbow in `q` (by RAISE_STEP at a time, within its limit) until the
+    hand's lowest point (its axis, wrist to tips, less half its thickness) is over `height`."""
+    joints = arm_joint_indices(arm)
+    elbow = joints[3]
+    lowest = joint_limits(PERSON_JOINTS[elbow])[0]
+    while q[elbow] - RAISE_STEP >= lowest:
+        points = arm_points(body, arm, q[joints])
+        if min(points["wrist"][2], points["tips"][2]) - HAND_THICKNESS / 2 >= height:
+            return
+        q[elbow] -= RAISE_STEP
 
 
 def aim_head(body: BodyDimensions, point: np.ndarray) -> np.ndarray:
@@ -109,13 +135,16 @@ def head_rotation(yaw: float, pitch: float) -> np.ndarray:
     return rot_z(yaw) @ rot_y(pitch)
 
 
-def target_posture(body: BodyDimensions, action: Action) -> np.ndarray:
-    """The whole-body joint target for one action (PERSON_JOINTS order), within joint limits."""
-    q = rest_posture(body)
+def target_posture(
+    body: BodyDimensions, action: Action, rest: np.ndarray | None = None
+) -> np.ndarray:
+    """The whole-body joint target for one action (PERSON_JOINTS order), within joint limits:
+    the `rest` posture (`rest_posture(body)` if None) with the head and the acting arm aimed."""
+    q = rest_posture(body) if rest is None else rest.copy()
     neck = [_INDEX["neck_yaw"], _INDEX["neck_pitch"]]
     if action.point is not None and action.kind != "touch":
-        rest = q[neck].copy()
-        q[neck] = rest + action.head_fraction * (aim_head(body, action.point) - rest)
+        level = q[neck].copy()
+        q[neck] = level + action.head_fraction * (aim_head(body, action.point) - level)
     if action.kind in ("point_at", *REACHES):
         aimed = action.point if action.arm_point is None else action.arm_point
         to_target = aimed - body.shoulder(action.arm)
@@ -129,23 +158,25 @@ def target_posture(body: BodyDimensions, action: Action) -> np.ndarray:
 
 
 def posture_changes(
-    body: BodyDimensions, actions: Sequence[Action]
+    body: BodyDimensions, actions: Sequence[Action], table_top: float | None = None
 ) -> list[tuple[float, np.ndarray]]:
     """(time, target posture) pairs, in time order: each action's start, and a return to rest
-    where an action ends before the next begins."""
+    where an action ends before the next begins. `table_top` as for `rest_posture`."""
     ordered = sorted(actions, key=lambda a: a.start)
-    changes = [(0.0, rest_posture(body))]
+    rest = rest_posture(body, table_top)
+    changes = [(0.0, rest)]
     for index, action in enumerate(ordered):
         next_start = ordered[index + 1].start if index + 1 < len(ordered) else np.inf
         end = next_start if action.end is None else min(action.end, next_start)
+        goal = target_posture(body, action, rest)
         if action.kind == "gesture":
-            changes += _gesture_beats(body, action, end)
+            changes += _gesture_beats(body, action, end, rest)
         elif action.kind in ("point_at", *REACHES):
-            changes += _lift_then_stretch(action, end, changes[-1][1], target_posture(body, action))
+            changes += _lift_then_stretch(action, end, changes[-1][1], goal)
         else:
-            changes.append((action.start, target_posture(body, action)))
+            changes.append((action.start, goal))
         if action.end is not None and action.end < next_start:
-            changes.append((action.end, rest_posture(body)))
+            changes.append((action.end, rest))
     return changes
 
 
@@ -169,14 +200,15 @@ def _lift_then_stretch(action: Action, end: float, before: np.ndarray, goal: np.
     return [(action.start, lifted), (stretch, goal)]
 
 
-def _gesture_beats(body: BodyDimensions, action: Action, end: float):
+def _gesture_beats(body: BodyDimensions, action: Action, end: float, rest: np.ndarray):
     """Talking with the hands: the forearm swings up and out and back every GESTURE_BEAT_S,
-    the elbow bent (never a straight, pointing arm), until `end` (at most a minute of beats)."""
+    the elbow bent (never a straight, pointing arm), until `end` (at most a minute of beats);
+    the rest of the body as in `rest`."""
     sign = side_sign(action.arm)
     joints = arm_joint_indices(action.arm)
     beats = []
     for beat in range(int(min(end - action.start, 60.0) / GESTURE_BEAT_S) + 1):
-        q = rest_posture(body)
+        q = rest.copy()
         lifted = beat % 2 == 0
         q[joints] = [-0.9 if lifted else -0.5, sign * (0.35 if lifted else 0.15), 0.0,
                      -1.1 if lifted else -1.6, 0.3 if lifted else -0.2]  # fmt: skip

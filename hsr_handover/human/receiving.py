@@ -97,10 +97,15 @@ class ReceivingParams:
 
 class Receiver:
     """Steps the person's side of the handover on true positions; `changes` are the postures
-    it adds to the person's timeline, `grip` the object the hand holds ("" for none)."""
+    it adds to the person's timeline, `grip` the object the hand holds ("" for none). The
+    body not reaching keeps its rest posture at a table whose top is `table_top` (m, person
+    frame; see `rest_posture`)."""
 
-    def __init__(self, body: BodyDimensions, params: ReceivingParams):
+    def __init__(
+        self, body: BodyDimensions, params: ReceivingParams, table_top: float | None = None
+    ):
         self._body, self._params = body, params
+        self._rest = rest_posture(body, table_top)
         self.state = Receiving.WAITING
         self.grip = ""
         self._offered: tuple[str, float] | None = None  # (object, since when it is still)
@@ -132,7 +137,7 @@ class Receiver:
         if not self._params.takes or self.state is Receiving.DRAWN_IN:
             return []
         if self.state is Receiving.WAITING:
-            posture = rest_posture(self._body) if posture is None else posture
+            posture = self._rest if posture is None else posture
             return self._watch(time, objects, gripper, posture)
         if self.state is Receiving.REACHING:
             name = self._offered[0]
@@ -195,7 +200,7 @@ class Receiver:
 
     def _posture(self, time: float, point: np.ndarray) -> np.ndarray:
         action = Action(REACHES[0], time, None, np.asarray(point, dtype=float), self._params.arm)
-        return target_posture(self._body, action)
+        return target_posture(self._body, action, self._rest)
 
 
 def reach_point(

@@ -102,7 +102,8 @@ def _person_timeline(
 ) -> PostureTimeline:
     """The person's script as a posture timeline; sets the person's default posture to its
     start, so call it before Finalize."""
-    timeline = PostureTimeline(posture_changes(body, person_actions(scenario, body)))
+    actions = person_actions(scenario, body)
+    timeline = PostureTimeline(posture_changes(body, actions, scenario.table.height))
     rest, _ = timeline.evaluate(0.0)
     set_default_positions(
         plant, person, dict(zip(PERSON_JOINTS, rest, strict=True)), "person", scenario.source
@@ -119,7 +120,12 @@ def _add_person(builder, plant, robot, person, objects, body, timeline, scenario
     world = _world_bodies(plant, robot, hand, objects, bodies, body.hand / 2, scenario)
     actor = builder.AddNamedSystem(
         "human_actor",
-        HumanActor(timeline, actuated_joint_names(plant, person), Receiver(body, params), world),
+        HumanActor(
+            timeline,
+            actuated_joint_names(plant, person),
+            Receiver(body, params, scenario.table.height),
+            world,
+        ),
     )
     builder.Connect(
         actor.GetOutputPort("person_desired_state"), plant.get_desired_state_input_port(person)
