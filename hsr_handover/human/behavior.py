@@ -168,13 +168,13 @@ def posture_changes(
     for index, action in enumerate(ordered):
         next_start = ordered[index + 1].start if index + 1 < len(ordered) else np.inf
         end = next_start if action.end is None else min(action.end, next_start)
-        goal = target_posture(body, action, rest)
         if action.kind == "gesture":
             changes += _gesture_beats(body, action, end, rest)
         elif action.kind in ("point_at", *REACHES):
+            goal = target_posture(body, action, rest)
             changes += _lift_then_stretch(action, end, changes[-1][1], goal)
         else:
-            changes.append((action.start, goal))
+            changes.append((action.start, target_posture(body, action, rest)))
         if action.end is not None and action.end < next_start:
             changes.append((action.end, rest))
     return changes
