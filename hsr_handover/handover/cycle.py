@@ -307,6 +307,12 @@ class HandoverCycle:
 
     # Stepping ---------------------------------------------------------------------------------
 
+    def wait_until(self, time: float) -> None:
+        """Plan nothing before `time` (s): the robot is moving on a command that is not the
+        cycle's (the supervisor's raise to where it watches from), and a plan starts at rest
+        where it stands. A request recognised meanwhile is recorded when it is."""
+        self._retry_at = max(self._retry_at, time)
+
     def step(self, p: Percepts) -> Cycle:
         """Advance on the latest percepts; returns the cycle's record."""
         self._person = p.person if p.person is not None else self._person

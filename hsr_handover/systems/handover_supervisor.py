@@ -155,6 +155,8 @@ class HandoverSupervisor(LeafSystem):
             return
         self._planner.perceive(memory.scene, memory.arm)
         percepts = self._percepts(context, skeleton, arm, memory.cycle)
+        if memory.raised is not None:
+            memory.cycle.wait_until(memory.raised.end)  # the grasp plans from the view reached
         memory.cycle.step(percepts)
         point = memory.cycle.gaze()
         memory.head = None if point is None else look_at(self._robot, percepts.q, point)

@@ -160,6 +160,18 @@ def test_a_whole_handover_runs_through_every_phase_in_order():
     assert world.planner.asked[2] == ("retreat", None)  # let go: retreats empty-handed
 
 
+def test_a_request_waits_to_be_planned_for_until_the_robot_stops_moving_on_another_command():
+    world = World()
+    world.cycle.wait_until(1.0)  # the supervisor's raise ends then
+    world.tick(0.5)
+    world.target = "yellow"
+    world.tick(0.2)
+    assert world.cycle.cycle.recognised_time == pytest.approx(0.6)
+    assert world.planner.asked == [] and world.cycle.cycle.phase is Phase.WATCH
+    world.tick(0.4)
+    assert world.planner.asked == [("grasp", "yellow")]
+
+
 def test_the_gripper_closes_only_once_the_approach_is_done():
     world = World()
     world.target = "yellow"

@@ -174,3 +174,21 @@ def test_it_rises_later_when_an_object_that_would_hide_the_arm_comes_into_view(s
     assert _watched_from(system, context, taller, until=context.get_time() + 1.0)[lift] == 0.0
     more = (*low, *_boxes(0.86, ("yellow",)))
     assert _watched_from(system, context, more, until=context.get_time() + 4.0)[lift] > 0.1
+
+
+def test_a_request_recognised_while_it_rises_is_planned_for_once_it_has_risen(supervisor):
+    """A plan starts at rest where the robot stands: planned mid-rise, the grasp would begin
+    with a step in the commanded velocity. The recognition is recorded when it comes."""
+    system, context, _ = supervisor
+    _watched_from(system, context, _boxes(0.86), until=LOOK_ROUND_S + 0.05)  # it may act
+    raised = context.get_abstract_state(0).get_value().raised
+    assert raised is not None and raised.end > context.get_time() + 0.3  # still rising
+    recognised = context.get_time() + 0.1
+    system.GetInputPort("intent").FixValue(context, IntentState(target="yellow"))
+    _watched_from(system, context, _boxes(0.86), until=raised.end - 0.05)
+    cycle = system.GetOutputPort("cycle").Eval(context)
+    assert cycle.target == "yellow"
+    assert cycle.recognised_time == pytest.approx(recognised, abs=0.11)
+    assert cycle.planning_s == 0.0 and cycle.phase is Phase.WATCH
+    _watched_from(system, context, _boxes(0.86), until=raised.end + 0.25)
+    assert system.GetOutputPort("cycle").Eval(context).planning_s > 0.0
