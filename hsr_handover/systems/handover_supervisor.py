@@ -37,7 +37,6 @@ from hsr_handover.handover.perceived_planner import PerceivedPlanner, pads_centr
 from hsr_handover.handover.plan_view import PlanView
 from hsr_handover.handover.watch_view import LIFT, plausible_shoulders, watch_posture
 from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY, HEAD_JOINTS
-from hsr_handover.intent.tracker import ARMS, shoulder_point
 from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.perception.facing import SteadyFacing
 from hsr_handover.planning.perceived_scene import PerceivedScene
@@ -175,7 +174,7 @@ class HandoverSupervisor(LeafSystem):
         objects = memory.scene.objects if memory.scene is not None else ()
         labels = frozenset(shape.label for shape in objects)
         if memory.weighed is None:
-            shoulders = _shoulders(skeleton)
+            shoulders = [_keypoint(skeleton, index) for index in _SHOULDERS]
             if any(point is None for point in shoulders) or not plausible_shoulders(shoulders):
                 return
         elif labels <= memory.weighed.labels:
@@ -276,6 +275,7 @@ class HandoverSupervisor(LeafSystem):
 
 
 _WRIST = keypoint_index(f"{RECEIVING_SIDE}_wrist")
+_SHOULDERS = (keypoint_index("r_shoulder"), keypoint_index("l_shoulder"))
 _UPPER_BODY = tuple(keypoint_index(name) for name in ("neck", "r_shoulder", "l_shoulder"))
 _FACE = tuple(keypoint_index(name) for name in ("nose", "r_eye", "l_eye", "r_ear", "l_ear"))
 
@@ -286,15 +286,6 @@ def _keypoint(skeleton, index: int) -> np.ndarray | None:
         return None
     point = skeleton.points[index]
     return point if np.all(np.isfinite(point)) else None
-
-
-def _shoulders(skeleton) -> list[np.ndarray | None]:
-    """The right and left shoulders (m, world), one hidden taken as the other mirrored through
-    the neck (`shoulder_point`: at the staggered layout's high table, a hand resting over it
-    hid a shoulder from the camera below it); None for one not known so."""
-    if skeleton is None:
-        return [None, None]
-    return [shoulder_point(skeleton.points, skeleton.confidence, side) for side in ARMS]
 
 
 def _wrist(skeleton) -> np.ndarray | None:

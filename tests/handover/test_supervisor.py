@@ -134,13 +134,10 @@ def _boxes(table: float, labels=tuple(_PLACES)) -> tuple[ObjectShape, ...]:
     )
 
 
-def _watched_from(
-    system, context, objects, until: float = VIEW_AFTER_S + 4.0, person=None
-) -> np.ndarray:
-    """The command once the look round is over, with the synthetic person (`person`: points
-    and confidences; `keypoints()` if None) seated behind the `objects` (perceived), and the
-    joints where they were commanded."""
-    points, confidence = keypoints() if person is None else person
+def _watched_from(system, context, objects, until: float = VIEW_AFTER_S + 4.0) -> np.ndarray:
+    """The command once the look round is over, with the synthetic person seated behind the
+    `objects` (perceived), and the joints where they were commanded."""
+    points, confidence = keypoints()
     skeleton = Skeleton(np.zeros((18, 2)), points, confidence, torso_forward=np.array([-1.0, 0, 0]))
     system.GetInputPort("skeleton").FixValue(context, skeleton)
     system.GetInputPort("perceived_scene").FixValue(context, PerceivedScene(None, objects))
@@ -160,16 +157,6 @@ def test_it_watches_from_a_raised_torso_when_the_objects_would_hide_a_pointing_a
     n = len(COMMANDED_JOINTS)
     np.testing.assert_allclose(command[n:], 0.0, atol=1e-6)  # and arrived there
     assert system.GetOutputPort("cycle").Eval(context).phase is Phase.WATCH
-
-
-def test_a_shoulder_hidden_is_taken_mirrored_through_the_neck_to_weigh_the_view(supervisor):
-    system, context, _ = supervisor
-    points, confidence = keypoints()
-    shoulders = [keypoint_index(name) for name in ("r_shoulder", "l_shoulder")]
-    points[keypoint_index("neck")] = points[shoulders].mean(axis=0)  # as OpenPose marks it
-    confidence[shoulders[1]] = 0.0
-    command = _watched_from(system, context, _boxes(0.86), person=(points, confidence))
-    assert command[COMMANDED_JOINTS.index("arm_lift_joint")] > 0.1
 
 
 def test_it_watches_from_the_ready_posture_over_a_low_table(supervisor):
