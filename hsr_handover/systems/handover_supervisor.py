@@ -155,8 +155,6 @@ class HandoverSupervisor(LeafSystem):
             return
         self._planner.perceive(memory.scene, memory.arm)
         percepts = self._percepts(context, skeleton, arm, memory.cycle)
-        if memory.raised is not None:
-            memory.cycle.wait_until(memory.raised.end)  # the grasp plans from the view reached
         memory.cycle.step(percepts)
         point = memory.cycle.gaze()
         memory.head = None if point is None else look_at(self._robot, percepts.q, point)
@@ -193,6 +191,7 @@ class HandoverSupervisor(LeafSystem):
         if planned.ok:
             lift = float(posture[self._robot.index(LIFT)])
             memory.raised = _Raise(time, planned.motions[0][1], lift)
+            memory.cycle.wait_until(memory.raised.end)  # the grasp plans from the view reached
         memory.view_blocked = not planned.ok  # then it watches from where it is
 
     def _measured(self, context: Context) -> np.ndarray:
