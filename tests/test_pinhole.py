@@ -8,6 +8,7 @@ import numpy as np
 from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.systems.sensors import CameraInfo
 
+from hsr_handover.perception.depth_view import DepthView
 from hsr_handover.perception.pinhole import PinholeCamera
 from hsr_handover.scenario import CameraConfig
 from hsr_handover.systems.head_camera import to_camera_info
@@ -70,3 +71,39 @@ def test_scaled_camera_sees_the_same_ray():
     )
     assert camera.contains(np.array([[-0.4, 0.0], [639.4, 479.4]])).all()
     assert not camera.contains(np.array([[-0.6, 0.0], [0.0, 479.6]])).any()
+
+
+def _looking_down(depth_value: float) -> tuple[PinholeCamera, np.ndarray, np.ndarray]:
+    """A 40 x 30 camera 2 m up looking straight down over (1, 0), seeing a flat surface
+    `depth_value` m away everywhere but its top-left quarter (0: too near to measure) and its
+    bottom-right pixel (NaN)."""
+    camera = PinholeCamera.from_fov_x(40, 30, 1.0)
+    X_WC = RigidTransform(RollPitchYaw(math.pi, 0, 0), [1.0, 0.0, 2.0]).GetAsMatrix4()
+    depth = np.full((30, 40), depth_value, np.float32)
+    depth[:15, :20] = 0.0
+    depth[-1, -1] = np.nan
+    return camera, X_WC, depth
+
+
+def test_depth_seen_reads_the_image_along_each_points_line_of_sight():
+    camera, X_WC, depth = _looking_down(1.2)  # a floor at z = 0.8
+    points = np.array([[1.0, 0.0, 1.5], [9.0, 0.0, 1.0], [1.0, 0.0, 2.5]])
+    seen, point_depth, pixels = camera.depth_seen(depth, points, X_WC)
+    np.testing.assert_allclose(point_depth[:2], [0.5, 1.0])
+    assert point_depth[2] < 0  # behind the camera
+    assert seen[0] == np.float32(1.2) and np.isnan(seen[1:]).all()  # out of view
+    np.testing.assert_allclose(pixels[0], [camera.cx, camera.cy])
+
+
+def test_a_depth_view_tells_hidden_from_empty_from_unknown():
+    camera, X_WC, depth = _looking_down(1.2)
+    view = DepthView(camera, X_WC, depth)
+    below_left = camera.deproject(np.array([[2.0, 2.0]]), [1.0], X_WC)  # the 0-depth quarter
+    last_pixel = camera.deproject(np.array([[39.0, 29.0]]), [1.0], X_WC)
+    points = np.vstack([[1.0, 0.0, 1.5], [1.0, 0.0, 0.5], below_left, last_pixel,
+                        [9.0, 0.0, 1.0]])  # fmt: skip
+    past = view.depth_past(points)
+    np.testing.assert_allclose(past[:2], [0.7, -0.3], atol=1e-6)  # empty above, hidden below
+    assert np.isnan(past[2:]).all()  # too near to measure, no measurement, out of view
+    depth[:] = np.inf  # nothing in range
+    assert np.isposinf(DepthView(camera, X_WC, depth).depth_past(points[:1])).all()

@@ -15,7 +15,6 @@ from hsr_handover.effectivity.person_map import HumanArm, PersonEffectivity
 from hsr_handover.handover.cycle import PlannedMotions
 from hsr_handover.handover.plan_view import PlanView, palm_path
 from hsr_handover.hsr import GRIPPER_JOINT, PALM_FRAME
-from hsr_handover.perception.object_shapes import ObjectShape
 from hsr_handover.planning.grasps import PAD_OFFSET
 from hsr_handover.planning.inverse_kinematics import IkResult, PalmGoal, solve_palm_ik
 from hsr_handover.planning.offer import object_extent, offer_points
@@ -35,9 +34,6 @@ from hsr_handover.planning.retarget import Retargeting, retarget
 from hsr_handover.planning.timing import TimedPath, joint_limits
 from hsr_handover.planning.trajectory import COLLISION_BOUND
 
-STILL_M = 0.02
-"""m: an object seen this near where it was (its footprint's centre and its top) has not moved;
-the centre of a part of it seen past an arm shifts by about 1 cm."""
 FOLLOW_CHECK_S = 0.05  # s between the clearance checks of a re-targeted motion
 
 
@@ -71,41 +67,6 @@ def _view(plan: Plan, motions, palm, person: PersonEffectivity | None) -> PlanVi
     if pose is None or pose.robot_nodes is None or person is None:
         return PlanView(path)
     return PlanView(path, pose.robot_nodes, pose.mutual, person.nodes, pose.point)
-
-
-def remember(last: PerceivedScene | None, scene: PerceivedScene) -> PerceivedScene:
-    """The `scene` now, with what the camera has turned away from as it was `last` seen: the
-    table, objects out of view, an object that has not moved as whole as it was seen, and each
-    part of the person not seen now (things do not vanish, or shrink, or people lose limbs,
-    when something passes in front of them or the robot looks at its hand). A part seen now is
-    taken as seen now: while the whole person was kept until a view showed as many parts as the
-    last, a view that lacked a hip's bone kept the person pointing, and the carry was planned
-    into the arm that had come to rest on the table (the moved layout's trial 9 of seed 2)."""
-    if last is None:
-        return scene
-    then = {shape.label: shape for shape in last.objects}
-    now = tuple(_fuller(shape, then.get(shape.label)) for shape in scene.objects)
-    seen = {shape.label for shape in scene.objects}
-    parts = {capsule.part for capsule in scene.person}
-    return dataclasses.replace(
-        scene,
-        table=scene.table if scene.table is not None else last.table,
-        objects=(*now, *(shape for label, shape in then.items() if label not in seen)),
-        person=(*scene.person, *(capsule for capsule in last.person if capsule.part not in parts)),
-    )
-
-
-def _fuller(now: ObjectShape, then: ObjectShape | None) -> ObjectShape:
-    """The object as seen `now`, unless it stands where it was seen `then` (its footprint's
-    centre and its top within STILL_M) and shows less of itself now: an arm in front of it
-    hides part of it, which shrinks its footprint and turns its yaw (the standing layout's
-    trial 8 of seed 2: a 7 cm box seen 5.7 cm long and 9.6 degrees off as a pointing arm
-    lowered over it, and the fingers approaching along that struck it)."""
-    if then is None or then.kind != now.kind:
-        return now
-    top_moved = abs((now.bottom + now.height) - (then.bottom + then.height))
-    moved = max(float(np.linalg.norm(now.center - then.center)), top_moved) > STILL_M
-    return now if moved or np.prod(now.size) >= np.prod(then.size) else then
 
 
 def pads_centre(palm_pose: RigidTransform) -> np.ndarray:

@@ -251,9 +251,7 @@ def hidden_keypoints(
 
     A depth of 0 (too near to measure) hides; NaN and +inf (nothing in range) do not.
     """
-    pixels, keypoint_depth, in_view = _project(keypoints_W, camera, X_WC)
-    u, v = _pixel_indices(np.where(in_view[:, None], pixels, 0.0))
-    seen_depth = np.where(in_view, depth[v, u], np.nan)
+    seen_depth, keypoint_depth, pixels = camera.depth_seen(depth, keypoints_W, X_WC)
     with np.errstate(invalid="ignore"):
         nearer = seen_depth < keypoint_depth - noise.occlusion_margin
     hidden = np.zeros(NUM_KEYPOINTS, dtype=bool)

@@ -4,24 +4,28 @@ the person as capsules around the lifted skeleton's bones.
 A lifted keypoint lies on the body's surface that faces the camera, so each bone's axis is put
 a limb's radius behind its keypoints, along the camera's line of sight; every capsule is then
 widened by a margin for the skeleton's error. COCO-18 has no hands: each forearm's capsule runs
-on past the wrist by a hand's length. What the camera cannot see (the back, the seat, the legs
-under the table) is a column from the floor to the neck. An elbow hidden while its shoulder and
-wrist are seen is put where an arm of the body's proportions would have it (`hidden_elbow`):
-without it the arm would be missing from the scene.
+on past the wrist so that its surface, before the margin, ends at the fingertips. What the
+camera cannot see (the back, the seat, the legs under the table) is a column from the floor to
+the neck. An elbow hidden while its shoulder and wrist are seen is put where an arm of the
+body's proportions would have it (`hidden_elbow`): without it the arm would be missing from
+the scene.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 
 from hsr_handover.effectivity.person_map import perceived_arm
 from hsr_handover.perception.coco18 import keypoint_index
+from hsr_handover.perception.depth_view import DepthView
 from hsr_handover.perception.object_shapes import ObjectShape
 from hsr_handover.perception.table_fit import TableEstimate
 
-HAND_LENGTH = 0.18  # m, wrist to fingertips of an adult hand
+HAND_LENGTH = 0.2
+"""m, wrist to fingertips: a large adult hand (a man's averages 19 cm)."""
 PERSON_MARGIN = 0.05
 """m added to every capsule: the lifted skeleton is off by a few cm."""
 UNSEEN_EXTENSION = 0.5  # m a table's top may run on past the edge of the camera's view
@@ -44,6 +48,9 @@ _BONES = {
 BONES = {(keypoint_index(a), keypoint_index(b)): radius for (a, b), radius in _BONES.items()}
 _BONE_NAMES = {(keypoint_index(a), keypoint_index(b)): f"{a}-{b}" for a, b in _BONES}
 BODY_PART = "body"  # the column for what the camera does not see of the person
+_ELBOWS = {keypoint_index("r_elbow"), keypoint_index("l_elbow")}
+ARM_PARTS = frozenset(name for bone, name in _BONE_NAMES.items() if _ELBOWS & set(bone))
+"""The upper arms and forearms: the parts of a seated person that move."""
 _WRISTS = (keypoint_index("r_wrist"), keypoint_index("l_wrist"))
 _ARM = ("shoulder", "elbow", "wrist")
 
@@ -51,12 +58,14 @@ _ARM = ("shoulder", "elbow", "wrist")
 @dataclasses.dataclass(frozen=True)
 class Capsule:
     """A segment from `start` to `end` (m, world) swept by a sphere of `radius` (m), around
-    the `part` of the person it stands for (a bone, "neck-r_shoulder", or BODY_PART)."""
+    the `part` of the person it stands for (a bone, "neck-r_shoulder", or BODY_PART), as seen
+    at time `seen_at` (s; NaN when not said)."""
 
     start: np.ndarray
     end: np.ndarray
     radius: float
     part: str = ""
+    seen_at: float = math.nan
 
     @property
     def length(self) -> float:
@@ -76,9 +85,10 @@ def person_capsules(
     confidence: np.ndarray,
     camera_position: np.ndarray,
     margin: float = PERSON_MARGIN,
+    seen_at: float = math.nan,
 ) -> tuple[Capsule, ...]:
     """Capsules around the bones of a lifted COCO-18 skeleton (18 x 3 points, 18 confidences)
-    whose two keypoints were seen, seen from `camera_position` (3,)."""
+    whose two keypoints were seen, seen from `camera_position` (3,) at time `seen_at` (s)."""
     points = np.array(points, dtype=float)
     seen = (np.asarray(confidence) > 0) & np.isfinite(points).all(axis=1)
     for side in ("r", "l"):
@@ -94,11 +104,11 @@ def person_capsules(
         if not (seen[a] and seen[b]):
             continue
         start, end = (behind(points[i], camera_position, radius) for i in (a, b))
-        if b in _WRISTS:
+        if b in _WRISTS:  # the axis ends a radius short: the capsule's round end is the hand's
             forearm = end - start
-            end = end + HAND_LENGTH * forearm / max(np.linalg.norm(forearm), 1e-9)
-        capsules.append(Capsule(start, end, radius + margin, _BONE_NAMES[a, b]))
-    column = _body_column(points, seen, camera_position, margin)
+            end = end + (HAND_LENGTH - radius) * forearm / max(np.linalg.norm(forearm), 1e-9)
+        capsules.append(Capsule(start, end, radius + margin, _BONE_NAMES[a, b], seen_at))
+    column = _body_column(points, seen, camera_position, margin, seen_at)
     return tuple(capsules) + column
 
 
@@ -126,7 +136,9 @@ def hidden_elbow(
     return shoulder + along * axis + np.sqrt(upper**2 - along**2) * down / np.linalg.norm(down)
 
 
-def _body_column(points, seen, camera_position, margin: float) -> tuple[Capsule, ...]:
+def _body_column(
+    points, seen, camera_position, margin: float, seen_at: float
+) -> tuple[Capsule, ...]:
     """What the camera cannot see of a person, down to the floor: the back, a seat, legs
     under the table. A vertical capsule BODY_COLUMN_RADIUS round the neck, set back by the
     radius, from the floor to the neck."""
@@ -138,7 +150,7 @@ def _body_column(points, seen, camera_position, margin: float) -> tuple[Capsule,
     radius = BODY_COLUMN_RADIUS + margin
     bottom = np.array([center[0], center[1], radius])
     top = np.array([center[0], center[1], max(points[neck][2], 2 * radius)])
-    return (Capsule(bottom, top, radius, BODY_PART),)
+    return (Capsule(bottom, top, radius, BODY_PART, seen_at),)
 
 
 def extend_past_view(table: TableEstimate, camera_xy: np.ndarray) -> TableEstimate:
@@ -169,11 +181,13 @@ def behind(surface: np.ndarray, camera_position: np.ndarray, depth: float) -> np
 @dataclasses.dataclass(frozen=True)
 class PerceivedScene:
     """Everything the planner avoids, from the percepts only: the table (None if unseen), the
-    detected objects' shapes and the person's capsules."""
+    detected objects' shapes and the person's capsules; with the depth `view` they were seen
+    in (None if not kept), which tells what the camera now sees through."""
 
     table: TableEstimate | None
     objects: tuple[ObjectShape, ...] = ()
     person: tuple[Capsule, ...] = ()
+    view: DepthView | None = dataclasses.field(default=None, compare=False, repr=False)
 
     def object_named(self, label: str) -> ObjectShape | None:
         return next((shape for shape in self.objects if shape.label == label), None)

@@ -33,8 +33,9 @@ from hsr_handover.handover.look_round import (
     LOOK_ROUND_S,
     look_round_pan,
 )
-from hsr_handover.handover.perceived_planner import PerceivedPlanner, pads_centre, remember
+from hsr_handover.handover.perceived_planner import PerceivedPlanner, pads_centre
 from hsr_handover.handover.plan_view import PlanView
+from hsr_handover.handover.scene_memory import remember
 from hsr_handover.handover.watch_view import LIFT, plausible_shoulders, watch_posture
 from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY, HEAD_JOINTS
 from hsr_handover.perception.coco18 import keypoint_index

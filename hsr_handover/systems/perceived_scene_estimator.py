@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import numpy as np
 from pydrake.common.value import AbstractValue
 from pydrake.math import RigidTransform
 from pydrake.systems.framework import Context, LeafSystem
 from pydrake.systems.sensors import ImageDepth32F
 
+from hsr_handover.perception.depth_view import DepthView
 from hsr_handover.perception.object_shapes import measure_objects
 from hsr_handover.perception.pinhole import PinholeCamera
 from hsr_handover.planning.perceived_scene import (
@@ -20,14 +22,15 @@ from hsr_handover.planning.perceived_scene import (
 class PerceivedSceneEstimator(LeafSystem):
     """The planning scene's contents (DESIGN §3.4), computed when asked for.
 
-        Inputs: `table` (TableReport), `detections` (DetectionResult: every detection is an
-        obstacle, confirmed by the map or not), `depth_image` (ImageDepth32F of the detections'
-        capture), `camera_pose` (RigidTransform X_WC) and
-        `skeleton` (the lifted Skeleton). Output `scene`: a PerceivedScene: the fitted table (its
-    edges at the edge of the camera's view pushed out: the top may run on unseen), each
-        detected object as a cylinder or box standing on it (none before the table is seen), and
-        the person's capsules widened by `person_margin` (m). `camera` holds the intrinsics of the
-        depth image's size.
+    Inputs: `table` (TableReport), `detections` (DetectionResult: every detection is an
+    obstacle, confirmed by the map or not), `depth_image` (ImageDepth32F of the detections'
+    capture), `camera_pose` (RigidTransform X_WC) and `skeleton` (the lifted Skeleton).
+    Output `scene`: a PerceivedScene: the fitted table (its edges at the edge of the camera's
+    view pushed out: the top may run on unseen), each detected object as a cylinder or box
+    standing on it (none before the table is seen), the person's capsules widened by
+    `person_margin` (m) and stamped with the time, and the depth image they were seen in (a
+    `DepthView`, by which the supervisor forgets what the camera now sees through). `camera`
+    holds the intrinsics of the depth image's size.
     """
 
     def __init__(self, camera: PinholeCamera, person_margin: float = PERSON_MARGIN):
@@ -53,13 +56,15 @@ class PerceivedSceneEstimator(LeafSystem):
         pose = self._pose.Eval(context)
         skeleton = self._skeleton.Eval(context)
         person = person_capsules(
-            skeleton.points, skeleton.confidence, pose.translation(), self._margin
-        )
+            skeleton.points, skeleton.confidence, pose.translation(), self._margin,
+            seen_at=context.get_time(),
+        )  # fmt: skip
+        depth = np.array(self._depth.Eval(context).data[:, :, 0])  # kept: the image is reused
+        X_WC = pose.GetAsMatrix4()
         objects = ()
         if table is not None:
             detections = self._detections.Eval(context).detections
-            depth = self._depth.Eval(context).data[:, :, 0]
-            X_WC = pose.GetAsMatrix4()
             objects = tuple(measure_objects(detections, depth, self._camera, X_WC, table.height))
             table = extend_past_view(table, X_WC[:2, 3])
-        output.set_value(PerceivedScene(table, objects, person))
+        view = DepthView(self._camera, X_WC, depth)
+        output.set_value(PerceivedScene(table, objects, person, view))

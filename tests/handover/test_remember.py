@@ -2,12 +2,17 @@
 
 from __future__ import annotations
 
-import numpy as np
+import dataclasses
 
-from hsr_handover.handover.perceived_planner import STILL_M, remember
+import numpy as np
+from pydrake.math import RigidTransform, RollPitchYaw
+
+from hsr_handover.handover.scene_memory import ARM_MEMORY_S, STILL_M, remember
+from hsr_handover.perception.depth_view import DepthView
 from hsr_handover.perception.object_shapes import BOX, CYLINDER, ObjectShape
+from hsr_handover.perception.pinhole import PinholeCamera
 from hsr_handover.perception.table_fit import TableEstimate
-from hsr_handover.planning.perceived_scene import Capsule, PerceivedScene
+from hsr_handover.planning.perceived_scene import BODY_PART, Capsule, PerceivedScene
 
 TABLE = TableEstimate(0.72, np.array([0.85, 0.0]), np.array([0.6, 1.0]), 0.0, 5000)
 
@@ -64,3 +69,53 @@ def test_an_object_that_moved_is_taken_as_seen_now_however_little_shows():
     lifted = _box([0.80, 0.20], [0.04, 0.05], -1.17, height=0.1 + 1.5 * STILL_M)
     for now in (pushed, lifted):
         assert remember(last, PerceivedScene(TABLE, (now,), ())).objects == (now,)
+
+
+def _view_from_above(depth_value: float) -> DepthView:
+    """A camera 3 m up looking straight down over (1.2, 0), seeing `depth_value` m everywhere
+    (its image spans about 2.2 x 1.6 m at the table's height)."""
+    camera = PinholeCamera.from_fov_x(80, 60, 1.2)
+    X_WC = RigidTransform(RollPitchYaw(np.pi, 0, 0), [1.2, 0.0, 3.0]).GetAsMatrix4()
+    return DepthView(camera, X_WC, np.full((60, 80), depth_value, np.float32))
+
+
+def test_a_part_not_seen_is_forgotten_where_the_camera_now_sees_through_its_place():
+    """The staggered layout's trial 21 of seed 1: the pointing forearm, lowered under the
+    table's edge, was planned around where it pointed for the rest of the trial."""
+    forearm = Capsule(np.array([1.3, -0.1, 0.86]), np.array([0.9, -0.1, 0.9]), 0.095, "fore")
+    last = PerceivedScene(TABLE, (), (forearm, *_capsules(1)))
+    table_seen = 3.0 - 0.72  # the camera sees the table's top past where the arm was
+    now = PerceivedScene(TABLE, (), _capsules(1), _view_from_above(table_seen))
+    assert [capsule.part for capsule in remember(last, now).person] == ["0"]
+    # Something nearer than the arm where it was (the robot's own arm) hides it: kept.
+    hidden = dataclasses.replace(now, view=_view_from_above(3.0 - 1.2))
+    assert [capsule.part for capsule in remember(last, hidden).person] == ["0", "fore"]
+    # Seen through only near its elbow (at most 2 of the 5 points along it): kept.
+    hand_hidden = _view_from_above(table_seen)
+    hand_hidden.depth[:, :40] = 3.0 - 1.2  # the image's left half: the world's x < 1.2
+    partly = dataclasses.replace(now, view=hand_hidden)
+    assert [capsule.part for capsule in remember(last, partly).person] == ["0", "fore"]
+    # Out of the camera's view (it looks at its hand), or no view kept: kept.
+    away = PerceivedScene(TABLE, (), _capsules(1), _view_from_above(np.nan))
+    for scene in (away, dataclasses.replace(now, view=None)):
+        assert len(remember(last, scene).person) == 2
+
+
+def test_an_arm_unseen_for_a_while_is_forgotten_while_the_person_is_seen():
+    """Its wrist lifted onto the object it pointed at, the lowered arm lay along the camera's
+    line of sight through the object: no view saw through it (trial 21 of seed 1)."""
+    arm = ("r_shoulder-r_elbow", "r_elbow-r_wrist")
+    parts_then = (*arm, "neck-nose")
+    seen_then = tuple(dataclasses.replace(capsule, part=part, seen_at=6.0)
+                      for capsule, part in zip(_capsules(3), parts_then, strict=True))  # fmt: skip
+    last = PerceivedScene(TABLE, (), seen_then)
+    body = dataclasses.replace(_capsules(1)[0], part=BODY_PART)
+
+    def parts(time: float) -> set[str]:
+        now = PerceivedScene(TABLE, (), (dataclasses.replace(body, seen_at=time),))
+        return {capsule.part for capsule in remember(last, now).person}
+
+    assert parts(6.0 + ARM_MEMORY_S - 0.1) == {*arm, "neck-nose", BODY_PART}
+    assert parts(6.0 + ARM_MEMORY_S) == {"neck-nose", BODY_PART}  # a head does not move off
+    # The person out of view (the robot looks at its hand): nothing is forgotten.
+    assert len(remember(last, PerceivedScene(TABLE)).person) == 3

@@ -108,10 +108,24 @@ def test_the_person_is_capsules_behind_the_seen_surface_with_a_hand_past_the_wri
     expected = points[keypoint_index("neck")] * (1 + radius / np.linalg.norm(points[1]))
     np.testing.assert_allclose(neck_to_shoulder.start, expected)
     forearm = capsules[seen.index((keypoint_index("r_elbow"), keypoint_index("r_wrist")))]
-    assert forearm.length == pytest.approx(0.25 + HAND_LENGTH, abs=0.01)
+    bone = forearm.radius - 0.05
+    assert forearm.length == pytest.approx(0.25 + HAND_LENGTH - bone, abs=0.01)
     fingertips = np.array([1.5 - HAND_LENGTH + 0.02, -0.2, 1.35])
     assert forearm.distance(fingertips)[0] < 0  # the hand is covered
     assert person_capsules(points, np.zeros(NUM_KEYPOINTS), camera) == ()
+
+
+def test_the_hand_ends_at_the_fingertips_widened_by_the_margin_only():
+    """Seen from above: the forearm's capsule reaches a hand's length past the wrist plus the
+    margin, not a bone's radius more (its round end is the hand's end)."""
+    points, confidence = _skeleton()
+    wrist = points[keypoint_index("r_wrist")]
+    capsules = person_capsules(points, confidence, wrist + [0.0, 0.0, 1.0], margin=0.05)
+    (forearm,) = (capsule for capsule in capsules if capsule.part == "r_elbow-r_wrist")
+    bone = forearm.radius - 0.05
+    axis_past_wrist = wrist - [0.0, 0.0, bone] - [HAND_LENGTH + 0.05, 0.0, 0.0]
+    np.testing.assert_allclose(forearm.distance(axis_past_wrist), 0.0, atol=1e-3)
+    assert forearm.distance(axis_past_wrist - [0.01, 0.0, 0.0])[0] > 0.009
 
 
 def test_a_hidden_elbow_hangs_below_the_line_from_shoulder_to_wrist():

@@ -66,9 +66,25 @@ def test_each_detection_becomes_a_solid_standing_on_the_fitted_table():
 def test_before_the_table_is_seen_there_are_no_objects_but_the_person():
     system = PerceivedSceneEstimator(CAMERA, person_margin=0.0)
     context, _ = _fix_inputs(system, None)
+    context.SetTime(3.5)
     scene = system.GetOutputPort("scene").Eval(context)
     assert scene.table is None and scene.objects == ()
     assert len(scene.person) == 7
+    assert {capsule.seen_at for capsule in scene.person} == {3.5}
+
+
+def test_the_scene_keeps_the_depth_view_it_was_seen_in():
+    """The view tells the supervisor where the camera sees through a remembered part."""
+    system = PerceivedSceneEstimator(CAMERA)
+    context, center = _fix_inputs(system, None)
+    view = system.GetOutputPort("scene").Eval(context).view
+    over_box, over_table = center + [0, 0, 0.1], np.array([0.9, 0.3, TABLE_TOP + 0.1])
+    np.testing.assert_allclose(view.depth_past(np.array([over_box, over_table])), 0.1,
+                               atol=1e-6)  # fmt: skip
+    # A copy: the port's image is reused for the next capture.
+    image = system.GetInputPort("depth_image").Eval(context)
+    image.mutable_data[:] = 0.0
+    assert np.all(view.depth > 0)
 
 
 def test_a_negative_margin_is_refused_by_name():
