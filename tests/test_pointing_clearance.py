@@ -1,0 +1,93 @@
+"""A pointing person holds the hand clear of the objects (the world's person model)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from hsr_handover.human.aiming import arm_points, pointing_arm_angles
+from hsr_handover.human.body import BodyDimensions
+from hsr_handover.human.pointing_clearance import (
+    MAX_RAISE,
+    POINT_CLEAR,
+    RAISE_STEP,
+    Upright,
+    clear_aim,
+    hand_clearance,
+)
+from hsr_handover.intent.rays import angle_deg
+from hsr_handover.scenario import load_scenario
+from hsr_handover.station.world import person_actions
+from tests.conftest import SCENARIOS
+
+BODY = BodyDimensions.from_height(1.81, seated=True)
+
+
+def _unit(vector: np.ndarray) -> np.ndarray:
+    return vector / np.linalg.norm(vector)
+
+
+def _box_under_the_hand(side: str = "right") -> tuple[np.ndarray, Upright]:
+    """An aim whose straight arm's fingertips end on the top edge of a 12 cm box."""
+    shoulder = BODY.shoulder(side)
+    aim = shoulder + np.array([0.6, 0.0, -0.45])
+    tips = arm_points(BODY, side, pointing_arm_angles(aim - shoulder))["tips"]
+    box = Upright(tips[:2] + [0.02, 0.0], 0.04, tips[2] - 0.12, tips[2] + 0.005)
+    return aim, box
+
+
+def _raised(aim: np.ndarray, shoulder: np.ndarray, angle: float) -> np.ndarray:
+    """The unit direction from `shoulder` toward `aim`, raised by `angle` (rad)."""
+    offset = aim - shoulder
+    elevation = math.atan2(offset[2], np.hypot(*offset[:2])) + angle
+    heading = math.atan2(offset[1], offset[0])
+    return np.array([math.cos(elevation) * math.cos(heading),
+                     math.cos(elevation) * math.sin(heading), math.sin(elevation)])  # fmt: skip
+
+
+def test_an_arm_that_would_land_on_an_object_is_raised_just_clear_of_it():
+    aim, box = _box_under_the_hand()
+    shoulder = BODY.shoulder("right")
+    assert hand_clearance(BODY, shoulder, _unit(aim - shoulder), [box]) == 0.0
+    raised = clear_aim(BODY, "right", aim, [box])
+    assert np.linalg.norm(raised - shoulder) == pytest.approx(np.linalg.norm(aim - shoulder))
+    assert raised[2] > aim[2]
+    assert raised[1] == pytest.approx(aim[1])  # the same heading, only higher
+    assert hand_clearance(BODY, shoulder, _unit(raised - shoulder), [box]) >= POINT_CLEAR
+    # The least raise that clears: a step less does not.
+    steps = round(angle_deg(raised - shoulder, aim - shoulder) / math.degrees(RAISE_STEP))
+    assert steps >= 1
+    lower = _raised(aim, shoulder, (steps - 1) * RAISE_STEP)
+    assert hand_clearance(BODY, shoulder, lower, [box]) < POINT_CLEAR
+
+
+def test_an_arm_clear_of_everything_or_unable_to_clear_keeps_its_aim():
+    aim, box = _box_under_the_hand()
+    far = Upright(box.xy + [0.5, 0.0], box.radius, box.bottom, box.top)
+    np.testing.assert_array_equal(clear_aim(BODY, "right", aim, [far]), aim)
+    np.testing.assert_array_equal(clear_aim(BODY, "right", aim, []), aim)
+    tower = Upright(box.xy, 0.3, 0.0, 3.0)  # no raise up to MAX_RAISE clears it
+    np.testing.assert_array_equal(clear_aim(BODY, "right", aim, [tower]), aim)
+    highest = _raised(aim, BODY.shoulder("right"), MAX_RAISE)
+    assert hand_clearance(BODY, BODY.shoulder("right"), highest, [tower]) == 0.0
+
+
+def test_the_person_points_over_a_cup_within_reach_and_straight_at_one_beyond():
+    """Through the world's script: the point_left scenario's person, 1.81 m tall and exact,
+    pointing at the red cup where it stands (0.95 m off) and pulled in to 0.65 m."""
+    scenario = load_scenario(SCENARIOS / "point_left.yaml")
+    scenario.person.height = 1.81
+    scenario.person.imprecision.pointing_error_deg = 0.0
+    body = BodyDimensions.from_height(1.81, seated=True)
+    far = person_actions(scenario, body)[-1]
+    np.testing.assert_allclose(far.arm_point, far.point, atol=1e-9)
+    scenario.objects[0].position = [1.10, -0.22]
+    near = person_actions(scenario, body)[-1]
+    assert near.arm_point[2] > near.point[2]
+    cup = Upright(near.point[:2], 0.035, near.point[2] - 0.05, near.point[2] + 0.05)
+    shoulder = body.shoulder(near.arm)
+    straight_at = _unit(near.point - shoulder)
+    assert hand_clearance(body, shoulder, straight_at, [cup]) < POINT_CLEAR
+    assert hand_clearance(body, shoulder, _unit(near.arm_point - shoulder), [cup]) >= POINT_CLEAR
