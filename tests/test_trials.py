@@ -51,7 +51,9 @@ def test_same_specs_same_outcomes_with_one_or_two_workers():
 
 
 def test_outcomes_in_spec_order_when_later_specs_finish_first():
-    specs = [{"value": index, "sleep": 0.6 - 0.1 * index} for index in range(6)]
+    # The first runs long enough that the other worker, however late it starts on a loaded
+    # machine (spawning takes a second or more there), finishes later specs before it.
+    specs = [{"value": index, "sleep": 2.5 if index == 0 else 0.05} for index in range(6)]
     outcomes = run_trials(trial_functions.sleep_then_finish, specs, workers=2)
     assert [outcome.index for outcome in outcomes] == list(range(6))
     assert [result["value"] for result in results(outcomes)] == list(range(6))
