@@ -72,7 +72,7 @@ def _seen_through(capsule: Capsule, view: DepthView | None) -> bool:
         return False
     axis = np.linspace(0.0, 1.0, SIGHT_SAMPLES)[:, None] * (capsule.end - capsule.start)
     past = view.depth_past(capsule.start + axis)
-    measured = past[np.isfinite(past) | np.isposinf(past)]
+    measured = past[~np.isnan(past)]  # +inf: nothing in range behind it
     return measured.size > 0 and np.count_nonzero(measured > capsule.radius) > measured.size / 2
 
 
