@@ -49,6 +49,7 @@ def test_the_truth_judges_it_a_clean_handover(demo):
     # drawn in at the latest.
     assert score.gripped < release < score.gripped + TUG_S + DRAW_IN_S + 0.5
     assert np.isnan(score.dropped) and np.isnan(score.table_contact) and not score.knocked
+    assert not score.person_knocked  # the person touched only the box it was handed
     assert 0.005 < score.clearance_table < 0.1 and score.clearance_person > 0.02
     onset = scenario.person.behavior[-1].start
     trial = HandoverTrial(0, "yellow_box", "right", onset, True, 0.5, (), scenario)

@@ -67,3 +67,16 @@ def test_the_table_touched_by_an_object_not_yet_lifted_is_not_the_robots_contact
     watch = TrialWatch("cup")
     watch.observe(0.0, dict(START), [("cup", TABLE), ("box", TABLE)], "")
     assert math.isnan(watch.score.table_contact) and not watch.carrying()
+
+
+def test_the_person_touching_an_object_before_the_robot_lifts_it_is_the_persons_knock():
+    """The world's doing, counted apart from the robot's (moved seed 2 trial 57: a pointing
+    hand pushed the box asked for over)."""
+    watch = TrialWatch("cup")
+    watch.observe(0.0, dict(START), [], "")
+    watch.observe(0.5, dict(START), [(HAND, "cup"), ("box", PERSON)], "")
+    assert watch.score.person_knocked == {"cup": 0.5, "box": 0.5}
+    assert watch.score.knocked == {} and math.isnan(watch.score.person_contact)
+    taken = _carried()
+    taken.observe(2.0, START | {"cup": 0.9}, HELD + [("cup", HAND)], "cup")  # the handover
+    assert taken.score.person_knocked == {}

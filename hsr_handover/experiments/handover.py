@@ -106,6 +106,7 @@ def judge(
         "table_contact": not math.isnan(score.table_contact),
         "person_contact": not math.isnan(score.person_contact),
         "knocked": ",".join(sorted(set(score.knocked) - set(score.lifted))),
+        "person_knocked": ",".join(sorted(score.person_knocked)),
         "table_contact_s": score.table_contact, "person_contact_s": score.person_contact,
         "dropped_s": score.dropped, "gripped_s": score.gripped, "released_s": release_time,
         "clearance_table_m": score.clearance_table, "clearance_person_m": score.clearance_person,
@@ -210,6 +211,7 @@ def summarise(experiment: HandoverExperiment) -> dict:
         "table_contacts": sum(row["table_contact"] for row in ran),
         "person_contacts": sum(row["person_contact"] for row in ran),
         "objects_knocked": sum(bool(row["knocked"]) for row in ran),
+        "person_knocked": sum(bool(row["person_knocked"]) for row in ran),
         "times_s": {
             key: _median([row[f"{key}_s"] for row in succeeded])
             for key in ("recognition", "planning", "execution")

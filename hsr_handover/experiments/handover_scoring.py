@@ -33,16 +33,20 @@ NEAR = 0.5  # m: distances beyond this are not measured
 class TrialScore:
     """What truly happened: when each object was first `lifted` (s), when the target `dropped`,
     when the robot (or the object it carried) first touched the table, the person, and each
-    other object (`knocked`; the judge leaves out any that were picked up), when the person's
-    hand closed on the target (`gripped`), and the least clearance from the robot and its load
-    to the table and to the person's body (m; the hands are left out: touching one is a
-    contact, and a hand comes close to take the object)."""
+    other object (`knocked`; the judge leaves out any that were picked up), when the person
+    first touched each object before the robot had lifted it (`person_knocked`: the world's
+    doing, not the robot's; a pointing hand on the object asked for pushed it over, the moved
+    layout's trial 57 of seed 2), when the person's hand closed on the target (`gripped`), and
+    the least clearance from the robot and its load to the table and to the person's body (m;
+    the hands are left out: touching one is a contact, and a hand comes close to take the
+    object)."""
 
     lifted: dict[str, float] = dataclasses.field(default_factory=dict)
     dropped: float = math.nan
     table_contact: float = math.nan
     person_contact: float = math.nan
     knocked: dict[str, float] = dataclasses.field(default_factory=dict)
+    person_knocked: dict[str, float] = dataclasses.field(default_factory=dict)
     gripped: float = math.nan
     clearance_table: float = math.inf
     clearance_person: float = math.inf
@@ -89,6 +93,10 @@ class TrialWatch:
 
     def _contact(self, time: float, a: str, b: str) -> None:
         score, carrying = self.score, self.carrying()
+        for mine, other in ((a, b), (b, a)):
+            if mine in (PERSON, HAND) and other not in (TABLE, PERSON, HAND, ROBOT, ""):
+                if other not in score.lifted:
+                    score.person_knocked.setdefault(other, time)
         for mine, other in ((a, b), (b, a)):
             carried = carrying and mine == self._target
             if not (mine == ROBOT or carried) or other == ROBOT or (carried and other == HAND):
