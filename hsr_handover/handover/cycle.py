@@ -122,9 +122,9 @@ PATIENCE_S = 6.0
 pointing arm held over the object blocks every grasp until the person lowers it (6 of the
 reference run's 7 unreachable trials planned while the person still pointed)."""
 EMPTY_S = 0.5
-"""s the robot holds still after its fingers close on nothing while presenting, with no hand
-seen at the object nor tug felt, before it looks where the object went: a dropped object falls
-from the presenting height to the table in about 0.25 s."""
+"""s the robot holds still after its fingers close on nothing while carrying or presenting, with
+no hand seen at the object nor tug felt, before it looks where the object went: a dropped object
+falls from the presenting height to the table in about 0.25 s."""
 STILL_UP = 0.08
 """m above where the object stood on the table that the camera must see it, EMPTY_S after the
 fingers closed on nothing, to count it taken rather than dropped: a hand the robot's own arm
@@ -373,8 +373,17 @@ class HandoverCycle:
             self._queue = list(planned.motions)
 
     def _carry(self, p: Percepts) -> None:
-        if self._dropped(p) or self._moving(p.time):
+        if p.opening < HELD_OPENING:
+            # Taken on the way or dropped: presenting, the robot holds still and the camera
+            # tells (a hand held out beside the carry's slow end took the cup, and the robot
+            # called it dropped: the moved layout's trial 2 of seed 2).
+            self._start_presenting(p)
+            self._empty_fingers(p)
             return
+        if not self._moving(p.time):
+            self._start_presenting(p)
+
+    def _start_presenting(self, p: Percepts) -> None:
         self._enter(Phase.PRESENT, p.time)
         self._seen_at = p.time
         self._carried_force = p.wrist_force

@@ -244,14 +244,33 @@ def test_an_object_that_stays_on_the_table_is_a_missed_grasp():
     assert record.failure is Failure.GRASP_MISSED and "rose 0.0 cm" in record.reason
 
 
-def test_an_object_that_slips_out_during_the_carry_is_dropped():
+def _carrying() -> World:
     world = _closed_on(0.06)
     world.until(Phase.LIFT)
     world.seen = OBJECT + [0, 0, 0.08]
     world.until(Phase.CARRY)
+    return world
+
+
+def test_an_object_that_slips_out_during_the_carry_is_dropped():
+    world = _carrying()
     world.opening = 0.002
+    world.seen = OBJECT.copy()  # fallen back onto the table
     record = world.until(Phase.FAILED)
     assert record.failure is Failure.DROPPED
+
+
+def test_an_object_taken_from_the_fingers_during_the_carry_is_handed_over():
+    """The moved layout's trial 2 of seed 2: a hand held out beside the carry's slow end took
+    the cup, and the robot, still carrying, called it dropped."""
+    world = _carrying()
+    world.opening = 0.0
+    world.seen = OBJECT + [0.3, 0.0, STILL_UP + 0.1]  # up, in the person's hand
+    world.tick(EMPTY_S - TICK)
+    assert world.cycle.cycle.phase is Phase.PRESENT  # it stands still and looks first
+    np.testing.assert_array_equal(world.cycle.command(world.time)[1], 0.0)
+    record = world.until(Phase.DONE)
+    assert record.failure is None and Phase.RELEASE.value in record.phase_times
 
 
 def test_no_hand_in_time_fails_by_timeout_and_the_robot_keeps_the_object():
