@@ -21,11 +21,10 @@ CSV_COLUMNS = (
     "index", "target", "arm", "takes", "reaction_s", "held_out", "recognised", "retrieved",
     "handed_over", "graceful", "failure", "outcome", "robot_failure", "reason", "person_holds",
     "table_contact", "person_contact", "knocked", "person_knocked", "table_contact_s",
-    "person_contact_s",
-    "dropped_s", "gripped_s", "released_s", "clearance_table_m", "clearance_person_m",
-    "recognition_s", "planning_s", "execution_s", "watch_lift_m", "seed", "person_height_m",
-    "person_x_m", "person_y_m", "person_yaw_rad", "person_moved_back_m", "sim_s", "wall_s",
-    "arm_nearest", "arm_error_deg", "error",
+    "person_contact_s", "dropped_s", "gripped_s", "released_s", "clearance_table_m",
+    "clearance_person_m", "recognition_s", "planning_s", "execution_s", "watch_lift_m", "seed",
+    "person_height_m", "person_x_m", "person_y_m", "person_yaw_rad", "person_moved_back_m",
+    "sim_s", "wall_s", "arm_nearest", "arm_error_deg", "error",
 )  # fmt: skip
 
 

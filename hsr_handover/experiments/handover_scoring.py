@@ -27,6 +27,7 @@ nor the person's closed hand, has dropped (HandoverSim: not held, and touching t
 below it)."""
 CLEARANCE_EVERY_S = 0.05  # s between clearance measurements
 NEAR = 0.5  # m: distances beyond this are not measured
+NOT_OBJECTS = frozenset({TABLE, PERSON, HAND, ROBOT, ""})  # the owners that are not objects
 
 
 @dataclasses.dataclass
@@ -94,9 +95,8 @@ class TrialWatch:
     def _contact(self, time: float, a: str, b: str) -> None:
         score, carrying = self.score, self.carrying()
         for mine, other in ((a, b), (b, a)):
-            if mine in (PERSON, HAND) and other not in (TABLE, PERSON, HAND, ROBOT, ""):
-                if other not in score.lifted:
-                    score.person_knocked.setdefault(other, time)
+            if mine in (PERSON, HAND) and other not in NOT_OBJECTS and other not in score.lifted:
+                score.person_knocked.setdefault(other, time)
         for mine, other in ((a, b), (b, a)):
             carried = carrying and mine == self._target
             if not (mine == ROBOT or carried) or other == ROBOT or (carried and other == HAND):
