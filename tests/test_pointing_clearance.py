@@ -2,13 +2,17 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 import pytest
 
+from hsr_handover.experiments.handover_trials import make_trials
+from hsr_handover.experiments.seating import sit_clear
 from hsr_handover.human.aiming import arm_points, pointing_arm_angles
-from hsr_handover.human.body import BodyDimensions
+from hsr_handover.human.behavior import PostureTimeline, arm_joint_indices, posture_changes
+from hsr_handover.human.body import HAND_WIDTH, BodyDimensions
 from hsr_handover.human.pointing_clearance import (
     MAX_RAISE,
     POINT_CLEAR,
@@ -19,7 +23,7 @@ from hsr_handover.human.pointing_clearance import (
 )
 from hsr_handover.intent.rays import angle_deg
 from hsr_handover.scenario import load_scenario
-from hsr_handover.station.world import person_actions
+from hsr_handover.station.world import object_uprights, person_actions
 from tests.conftest import SCENARIOS
 
 BODY = BodyDimensions.from_height(1.81, seated=True)
@@ -91,3 +95,34 @@ def test_the_person_points_over_a_cup_within_reach_and_straight_at_one_beyond():
     straight_at = _unit(near.point - shoulder)
     assert hand_clearance(body, shoulder, straight_at, [cup]) < POINT_CLEAR
     assert hand_clearance(body, shoulder, _unit(near.arm_point - shoulder), [cup]) >= POINT_CLEAR
+
+
+def _least_hand_clearance(trial, withdraw: bool) -> float:
+    """The least distance (m) from either hand's axis to any object, from the pointing's start
+    to 3 s after its end, with the pointing hand withdrawn before lowering or not."""
+    scenario = trial.scenario
+    sit_clear(scenario)
+    body = BodyDimensions.from_height(scenario.person.height, seated=True)
+    actions = person_actions(scenario, body)
+    index = next(i for i, action in enumerate(actions) if action.kind == "point_at")
+    pointing = actions[index]
+    assert pointing.withdraw  # its hand was held over an object
+    actions[index] = dataclasses.replace(pointing, withdraw=withdraw)
+    uprights = object_uprights(scenario)
+    timeline = PostureTimeline(posture_changes(body, actions, scenario.table.height))
+    least = math.inf
+    for time in np.arange(pointing.start, pointing.end + 3.0, 0.02):
+        q, _ = timeline.evaluate(time)
+        for side in ("right", "left"):
+            hand = arm_points(body, side, q[arm_joint_indices(side)])
+            axis = np.linspace(hand["wrist"], hand["tips"], 11)
+            least = min(least, min(float(obj.distance(axis).min()) for obj in uprights))
+    return least
+
+
+def test_a_hand_held_over_an_object_is_withdrawn_before_the_arm_lowers():
+    """The moved layout's trial 57 of seed 2: the raised arm cleared the yellow box, but
+    lowered straight to rest it swept the hand through the box and knocked it over."""
+    trial = make_trials(load_scenario(SCENARIOS / "layouts" / "moved_base_four.yaml"), 60, 0, 2)[57]
+    assert _least_hand_clearance(trial, withdraw=True) >= HAND_WIDTH / 2 + 0.01
+    assert _least_hand_clearance(trial, withdraw=False) < HAND_WIDTH / 2

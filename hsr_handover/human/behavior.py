@@ -47,6 +47,11 @@ table's edge met the edge as the arm swung out, and stayed there for the whole g
 staggered layout's trials 39 and 43 of seed 1 never pointed). At such a table the forearms rest
 tilted up, the elbows bent further, as people hold their hands over a table's edge."""
 RAISE_STEP = 0.1  # rad: the elbow is bent by steps of this until the hand is over the table
+WITHDRAW_ELBOW = -1.6
+"""rad: a pointing hand held over an object is drawn back by bending the elbow this far (the
+forearm about square to the upper arm) before the arm lowers: lowered straight from the point
+to rest, it swept through the object it had pointed over and knocked it down (the moved
+layout's trial 57 of seed 2, the staggered layout's trial 21 of seed 1)."""
 _MIN_JERK_PEAK = 1.875  # peak of d/dtau of the minimum-jerk profile
 
 _INDEX = {name: i for i, name in enumerate(PERSON_JOINTS)}
@@ -71,6 +76,8 @@ class Action:
     head_fraction: the share of the turn toward `point` the head makes (the eyes do the rest).
     arm_point: where a pointing arm aims when it misses `point` (the person's pointing error);
     None aims at `point`. The eyes stay on `point`: the arm errs, the gaze does not follow it.
+    withdraw: a pointing hand held over an object is drawn back (the elbow bent to
+    WITHDRAW_ELBOW) before the arm lowers to rest, not swept down through the object.
     """
 
     kind: str
@@ -80,6 +87,7 @@ class Action:
     arm: str = "right"
     head_fraction: float = 1.0
     arm_point: np.ndarray | None = None
+    withdraw: bool = False
 
 
 def rest_posture(body: BodyDimensions, table_top: float | None = None) -> np.ndarray:
@@ -176,7 +184,10 @@ def posture_changes(
         else:
             changes.append((action.start, target_posture(body, action, rest)))
         if action.end is not None and action.end < next_start:
-            changes.append((action.end, rest))
+            if action.withdraw:
+                changes += _withdraw_then_rest(action, next_start, changes[-1][1], rest)
+            else:
+                changes.append((action.end, rest))
     return changes
 
 
@@ -198,6 +209,19 @@ def _lift_then_stretch(action: Action, end: float, before: np.ndarray, goal: np.
     lifted[_INDEX[prefix + "wrist"]] = 0.0
     stretch = min(action.start + LIFT_SHARE * move_duration(before, lifted), end)
     return [(action.start, lifted), (stretch, goal)]
+
+
+def _withdraw_then_rest(action: Action, end: float, before: np.ndarray, rest: np.ndarray):
+    """A pointing arm's return in two overlapping parts, `_lift_then_stretch` backwards: bend
+    the elbow to WITHDRAW_ELBOW, the shoulder held, which draws the hand back and up; then, once
+    that is LIFT_SHARE done (by `end` at the latest), go to `rest`. `before` is the pointing
+    posture."""
+    prefix = "r_" if action.arm == "right" else "l_"
+    withdrawn = before.copy()
+    withdrawn[_INDEX[prefix + "elbow"]] = WITHDRAW_ELBOW
+    withdrawn[_INDEX[prefix + "wrist"]] = 0.0
+    lower = min(action.end + LIFT_SHARE * move_duration(before, withdrawn), end)
+    return [(action.end, withdrawn), (lower, rest)]
 
 
 def _gesture_beats(body: BodyDimensions, action: Action, end: float, rest: np.ndarray):

@@ -28,7 +28,7 @@ from hsr_handover.human.imprecision import (
     perturb_direction,
 )
 from hsr_handover.human.pointing_clearance import Upright, clear_aim
-from hsr_handover.scenario import ObjectConfig, Scenario, ScenarioError, object_center
+from hsr_handover.scenario import Scenario, ScenarioError, object_center
 from hsr_handover.scene.object_models import object_height, object_sdf
 from hsr_handover.scene.person_model import person_sdf
 from hsr_handover.scene.table_model import table_sdf
@@ -59,14 +59,15 @@ def person_actions(scenario: Scenario, body: BodyDimensions) -> list[Action]:
     """The scenario's behaviour script with object names resolved to points in the person frame,
     made as imprecise as `person.imprecision` says: each pointing arm turned off the
     shoulder-to-target ray by its own drawn error (the eyes stay on the target) and raised, if
-    need be, until its hand clears the objects (`clear_aim`), every head turn short by this
-    person's drawn fraction. The draws come from the run's seed.
+    need be, until its hand clears the objects (`clear_aim`; such a hand is withdrawn before
+    the arm lowers), every head turn short by this person's drawn fraction. The draws come
+    from the run's seed.
 
     The actor is part of the simulated world, so it may know where the objects really are.
     """
     to_person = person_pose(scenario).inverse()
     centers = {obj.name: object_center(scenario, obj) for obj in scenario.objects}
-    uprights = [_upright(scenario, obj, to_person) for obj in scenario.objects]
+    uprights = object_uprights(scenario)
     imprecision = scenario.person.imprecision.model()
     rng = np.random.default_rng([scenario.simulation.seed, PERSON_STREAM])
     head_fraction = draw_head_fraction(rng, imprecision)
@@ -76,29 +77,34 @@ def person_actions(scenario: Scenario, body: BodyDimensions) -> list[Action]:
         if item.action in REACHES:
             world_point = np.asarray(item.point, dtype=float)
         point = None if world_point is None else to_person @ world_point
-        arm_point = None
+        arm_point, withdraw = None, False
         if item.action == "point_at":
             shoulder = body.shoulder(item.arm)
             error = draw_pointing_error(rng, imprecision.pointing_error_deg)
-            arm_point = shoulder + perturb_direction(point - shoulder, error)
-            arm_point = clear_aim(body, item.arm, arm_point, uprights)
+            aimed = shoulder + perturb_direction(point - shoulder, error)
+            arm_point = clear_aim(body, item.arm, aimed, uprights)
+            withdraw = not np.array_equal(arm_point, aimed)  # held over an object
         end = None if item.duration is None else item.start + item.duration
-        actions.append(
-            Action(item.action, item.start, end, point, item.arm, head_fraction, arm_point)
-        )
+        actions.append(Action(item.action, item.start, end, point, item.arm, head_fraction,
+                              arm_point, withdraw))  # fmt: skip
     return actions
 
 
-def _upright(scenario: Scenario, obj: ObjectConfig, to_person: RigidTransform) -> Upright:
-    """The object standing on the table as the cylinder round it, in the person frame."""
-    if obj.shape == "cup":
-        radius = obj.size[0] / 2
-    else:
-        radius = math.hypot(obj.size[0], obj.size[1]) / 2
-    bottom = scenario.table.height
-    top = bottom + object_height(obj.shape, obj.size)
-    xy = (to_person @ object_center(scenario, obj))[:2]
-    return Upright(xy, radius, bottom, top)
+def object_uprights(scenario: Scenario) -> list[Upright]:
+    """Each object standing on the table as the cylinder round it, in the person frame (what
+    the pointing person keeps the hand clear of)."""
+    to_person = person_pose(scenario).inverse()
+    uprights = []
+    for obj in scenario.objects:
+        if obj.shape == "cup":
+            radius = obj.size[0] / 2
+        else:
+            radius = math.hypot(obj.size[0], obj.size[1]) / 2
+        bottom = scenario.table.height
+        top = bottom + object_height(obj.shape, obj.size)
+        xy = (to_person @ object_center(scenario, obj))[:2]
+        uprights.append(Upright(xy, radius, bottom, top))
+    return uprights
 
 
 def add_floor(plant: MultibodyPlant) -> GeometryId:
