@@ -202,13 +202,18 @@ def _lift_then_stretch(action: Action, end: float, before: np.ndarray, goal: np.
     shoulder angles with the elbow bent (LIFT_ELBOW), which raises the hand, then open the
     elbow (by `end` at the latest). `before` is the posture the move starts from (or is
     heading to)."""
-    prefix = "r_" if action.arm == "right" else "l_"
-    elbow = _INDEX[prefix + "elbow"]
-    lifted = goal.copy()
-    lifted[elbow] = min(goal[elbow], LIFT_ELBOW)
-    lifted[_INDEX[prefix + "wrist"]] = 0.0
+    lifted = _elbow_bent(goal, action.arm, LIFT_ELBOW)
     stretch = min(action.start + LIFT_SHARE * move_duration(before, lifted), end)
     return [(action.start, lifted), (stretch, goal)]
+
+
+def _elbow_bent(posture: np.ndarray, arm: str, elbow: float) -> np.ndarray:
+    """`posture` with the `arm`'s elbow bent at least to `elbow` (rad) and its wrist straight."""
+    prefix = "r_" if arm == "right" else "l_"
+    bent = posture.copy()
+    bent[_INDEX[prefix + "elbow"]] = min(posture[_INDEX[prefix + "elbow"]], elbow)
+    bent[_INDEX[prefix + "wrist"]] = 0.0
+    return bent
 
 
 def _withdraw_then_rest(action: Action, end: float, before: np.ndarray, rest: np.ndarray):
@@ -216,10 +221,7 @@ def _withdraw_then_rest(action: Action, end: float, before: np.ndarray, rest: np
     the elbow to WITHDRAW_ELBOW, the shoulder held, which draws the hand back and up; then, once
     that is LIFT_SHARE done (by `end` at the latest), go to `rest`. `before` is the pointing
     posture."""
-    prefix = "r_" if action.arm == "right" else "l_"
-    withdrawn = before.copy()
-    withdrawn[_INDEX[prefix + "elbow"]] = WITHDRAW_ELBOW
-    withdrawn[_INDEX[prefix + "wrist"]] = 0.0
+    withdrawn = _elbow_bent(before, action.arm, WITHDRAW_ELBOW)
     lower = min(action.end + LIFT_SHARE * move_duration(before, withdrawn), end)
     return [(action.end, withdrawn), (lower, rest)]
 

@@ -72,14 +72,20 @@ class PinholeCamera:
         points[~valid] = np.nan
         return points
 
+    def project_in_view(
+        self, points_W: np.ndarray, X_WC: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """`project`, and whether each point is in view (in front of the camera, in the image)."""
+        pixels, depth = self.project(points_W, X_WC)
+        return pixels, depth, (depth > 0) & self.contains(pixels)
+
     def depth_seen(
         self, depth_image: np.ndarray, points_W: np.ndarray, X_WC: np.ndarray
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """What a depth image (H, W) taken from `X_WC` shows along each world point's (N, 3)
         line of sight: the image's value at the point's nearest pixel (NaN out of view), the
         point's own depth along the optical axis, and the point's pixel (N, 2)."""
-        pixels, point_depth = self.project(points_W, X_WC)
-        in_view = (point_depth > 0) & self.contains(pixels)
+        pixels, point_depth, in_view = self.project_in_view(points_W, X_WC)
         u, v = np.rint(np.where(in_view[:, None], pixels, 0.0)).astype(int).T
         seen = np.where(in_view, depth_image[v, u], np.nan)
         return seen, point_depth, pixels

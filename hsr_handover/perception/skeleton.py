@@ -232,14 +232,6 @@ def border_confidence(pixels: np.ndarray, camera: PinholeCamera) -> np.ndarray:
     return BORDER_CONFIDENCE + (INTERIOR_CONFIDENCE - BORDER_CONFIDENCE) * fraction
 
 
-def _project(
-    keypoints_W: np.ndarray, camera: PinholeCamera, X_WC: np.ndarray
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Pixels (18, 2), depths (18,) and whether each keypoint is in view (in front, in image)."""
-    pixels, keypoint_depth = camera.project(keypoints_W, X_WC)
-    return pixels, keypoint_depth, (keypoint_depth > 0) & camera.contains(pixels)
-
-
 def hidden_keypoints(
     keypoints_W: np.ndarray,
     camera: PinholeCamera,
@@ -307,7 +299,7 @@ def detect_keypoints(
     depth = checked_depth(depth, camera)
     pixel_noise = noise.pixel_sigma * rng.standard_normal((NUM_KEYPOINTS, 2))
     face_dropped = rng.random(len(_FACE_INDICES)) < noise.face_drop_probability
-    true_pixels, _, in_view = _project(keypoints_W, camera, X_WC)
+    true_pixels, _, in_view = camera.project_in_view(keypoints_W, X_WC)
     if not in_view.any():
         return Detection.missing(NOT_IN_VIEW)
     pixels = true_pixels + pixel_noise

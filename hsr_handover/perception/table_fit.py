@@ -145,8 +145,7 @@ class TableMap:
             self._origin + (np.column_stack([x.ravel(), y.ravel()]) + 0.5) * self.params.cell_m
         )
         at_top = np.column_stack([centres, np.full(len(centres), self.height)])
-        pixels, depth = camera.project(at_top, X_WC)
-        self.viewed_ |= ((depth > 0) & camera.contains(pixels)).reshape(rows, cols)
+        self.viewed_ |= camera.project_in_view(at_top, X_WC)[2].reshape(rows, cols)
 
     def _cells(self, xy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(rows, columns) of the grid cells under the points (N, 2) that fall on the grid."""
