@@ -55,6 +55,19 @@ def face_normal(nose: np.ndarray, r_eye: np.ndarray, l_eye: np.ndarray) -> np.nd
     return -normal / length
 
 
+def heading_elevation(directions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The heading about world z and the elevation from level (rad) of each direction (N, 3)."""
+    directions = np.asarray(directions, dtype=float).reshape(-1, 3)
+    horizontal = np.hypot(directions[:, 0], directions[:, 1])
+    return np.arctan2(directions[:, 1], directions[:, 0]), np.arctan2(directions[:, 2], horizontal)
+
+
+def unit_direction(heading: float, elevation: float) -> np.ndarray:
+    """The unit vector at `heading` about world z and `elevation` from level (rad)."""
+    level = math.cos(elevation)
+    return np.array([level * math.cos(heading), level * math.sin(heading), math.sin(elevation)])
+
+
 def tilt_down(direction: np.ndarray, degrees: float) -> np.ndarray:
     """`direction` turned down (toward world -z) by `degrees` in its vertical plane."""
     horizontal = float(np.hypot(direction[0], direction[1]))

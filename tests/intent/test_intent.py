@@ -12,7 +12,12 @@ import pytest
 from hsr_handover.human.aiming import pointing_arm_angles
 from hsr_handover.human.behavior import reaching_arm_angles
 from hsr_handover.intent import IntentParams, IntentTracker, Ray, elbow_angle_deg, face_normal
-from hsr_handover.intent.rays import ray_distances, tilt_down
+from hsr_handover.intent.rays import (
+    heading_elevation,
+    ray_distances,
+    tilt_down,
+    unit_direction,
+)
 from hsr_handover.intent.tracker import (
     ARM_MOVING,
     GAZE_ELSEWHERE,
@@ -449,3 +454,20 @@ def test_an_arm_lowered_for_longer_than_the_gap_ends_its_gesture():
     assert smoother.smooth(0.45, Observation()).pointing is None  # 0.45 s since it last pointed
     after = smoother.smooth(0.5, Observation("right", 170.0, Ray.through([0, 0, 0], [0, 1, 0])))
     np.testing.assert_allclose(after.pointing.direction, [0, 1, 0])  # a new gesture
+
+
+def test_the_face_is_the_median_of_its_window_so_one_wild_frame_does_not_turn_it():
+    """One frame's eq. 17 normal can read tens of degrees off (a jittered eye pixel whose depth
+    window slips off the eye): the window's face keeps the others' heading and elevation,
+    where their mean would turn a few degrees."""
+    smoother = RaySmoother(window=1.0)
+    steady = Ray(np.zeros(3), unit_direction(math.radians(170.0), math.radians(-20.0)))
+    wild = Ray(np.array([0.0, 0.0, 0.05]), unit_direction(math.radians(-150.0), math.radians(10.0)))
+    for time in np.arange(0.0, 0.3, 1 / 30):
+        seen = smoother.smooth(time, Observation(face=steady))
+    seen = smoother.smooth(0.3, Observation(face=wild))  # across the heading's wrap at 180 deg
+    heading, elevation = heading_elevation(seen.face.direction)
+    np.testing.assert_allclose(np.degrees([heading[0], elevation[0]]), [170.0, -20.0], atol=1e-9)
+    np.testing.assert_allclose(seen.face.origin, steady.origin)
+    mean = steady.direction * 9 + wild.direction
+    assert math.degrees(math.atan2(mean[1], mean[0])) > 172.0  # the mean would turn
