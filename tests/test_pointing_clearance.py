@@ -11,7 +11,12 @@ import pytest
 from hsr_handover.experiments.handover_trials import make_trials
 from hsr_handover.experiments.seating import sit_clear
 from hsr_handover.human.aiming import arm_points, pointing_arm_angles
-from hsr_handover.human.behavior import PostureTimeline, arm_joint_indices, posture_changes
+from hsr_handover.human.behavior import (
+    PostureTimeline,
+    arm_joint_indices,
+    posture_changes,
+    rest_posture,
+)
 from hsr_handover.human.body import HAND_WIDTH, BodyDimensions
 from hsr_handover.human.pointing_clearance import (
     MAX_RAISE,
@@ -20,6 +25,7 @@ from hsr_handover.human.pointing_clearance import (
     Upright,
     clear_aim,
     hand_clearance,
+    lowering_clearance,
 )
 from hsr_handover.intent.rays import angle_deg
 from hsr_handover.scenario import load_scenario
@@ -106,7 +112,7 @@ def _least_hand_clearance(trial, withdraw: bool) -> float:
     actions = person_actions(scenario, body)
     index = next(i for i, action in enumerate(actions) if action.kind == "point_at")
     pointing = actions[index]
-    assert pointing.withdraw  # its hand was held over an object
+    assert pointing.withdraw  # held over an object, or lowered straight through one
     actions[index] = dataclasses.replace(pointing, withdraw=withdraw)
     uprights = object_uprights(scenario)
     timeline = PostureTimeline(posture_changes(body, actions, scenario.table.height))
@@ -124,5 +130,35 @@ def test_a_hand_held_over_an_object_is_withdrawn_before_the_arm_lowers():
     """The moved layout's trial 57 of seed 2: the raised arm cleared the yellow box, but
     lowered straight to rest it swept the hand through the box and knocked it over."""
     trial = make_trials(load_scenario(SCENARIOS / "layouts" / "moved_base_four.yaml"), 60, 0, 2)[57]
+    assert _least_hand_clearance(trial, withdraw=True) >= HAND_WIDTH / 2 + 0.01
+    assert _least_hand_clearance(trial, withdraw=False) < HAND_WIDTH / 2
+
+
+def test_the_lowering_arm_is_checked_all_the_way_down_to_rest():
+    """A small box where the hand passes midway down: clear of the pointing hand and of the
+    hand at rest, but not of the way between."""
+    shoulder = BODY.shoulder("right")
+    aim = shoulder + np.array([0.65, 0.0, 0.0])
+    start = pointing_arm_angles(aim - shoulder)
+    rest = rest_posture(BODY)[arm_joint_indices("right")]
+    midway = arm_points(BODY, "right", start + 0.5 * (rest - start))["hand"]
+    in_the_way = Upright(midway[:2], 0.02, midway[2] - 0.03, midway[2] + 0.03)
+    far = Upright(midway[:2] + [0.0, 0.8], 0.02, midway[2] - 0.03, midway[2] + 0.03)
+    assert hand_clearance(BODY, shoulder, _unit(aim - shoulder), [in_the_way]) > POINT_CLEAR
+    resting = arm_points(BODY, "right", rest)
+    assert in_the_way.distance(np.linspace(resting["wrist"], resting["tips"], 11)).min() > 0.05
+    assert lowering_clearance(BODY, "right", aim, rest, [in_the_way]) == 0.0
+    assert lowering_clearance(BODY, "right", aim, rest, [far]) > 0.5
+    assert lowering_clearance(BODY, "right", aim, rest, []) == math.inf
+
+
+def test_a_hand_that_would_sweep_through_an_object_on_its_way_down_is_withdrawn():
+    """The staggered layout's trial 12 of seed 1: the arm pointed clear of the objects (not
+    raised), but lowered straight to rest its hand passed 0.5 cm (axis) from the yellow box
+    and touched it."""
+    layout = load_scenario(SCENARIOS / "layouts" / "staggered_high_four.yaml")
+    trial = make_trials(layout, 60, 0, 1)[12]
+    pointing = next(a for a in person_actions(trial.scenario, BODY) if a.kind == "point_at")
+    assert pointing.arm_point is not None
     assert _least_hand_clearance(trial, withdraw=True) >= HAND_WIDTH / 2 + 0.01
     assert _least_hand_clearance(trial, withdraw=False) < HAND_WIDTH / 2

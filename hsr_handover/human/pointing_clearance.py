@@ -1,9 +1,12 @@
 """A pointing arm held clear of the objects: a person points at a thing within reach from above
-it, they do not lay their hand on it.
+it, they do not lay their hand on it, and they draw the hand back before lowering the arm when
+lowering it straight would sweep the hand through one.
 
 In the moved layout's trial 57 of seed 2, a 1.81 m person's straight arm, aimed at the yellow
 box's middle 0.8 m away, ended on its top edge: the hand pushed it over during the gesture and
-rested beside it, and the robot could not grasp it."""
+rested beside it, and the robot could not grasp it. In the staggered layout's trial 12 of seed
+1, an arm that pointed clear of the objects swept its hand through the yellow box on its way
+back to rest (the hand's axis 0.5 cm from it)."""
 
 from __future__ import annotations
 
@@ -12,6 +15,7 @@ import math
 
 import numpy as np
 
+from hsr_handover.human.aiming import arm_points, pointing_arm_angles
 from hsr_handover.human.body import HAND_WIDTH, BodyDimensions
 
 POINT_CLEAR = HAND_WIDTH / 2 + 0.02
@@ -19,6 +23,7 @@ POINT_CLEAR = HAND_WIDTH / 2 + 0.02
 RAISE_STEP = math.radians(1.0)  # rad the arm is raised by at a time
 MAX_RAISE = math.radians(30.0)  # rad: no higher; an arm that still does not clear stays aimed
 _HAND_SAMPLES = 11  # points along the hand, wrist to fingertips
+_LOWER_SAMPLES = 21  # arm poses checked along the move back to rest
 
 
 @dataclasses.dataclass(frozen=True)
@@ -45,7 +50,7 @@ def hand_clearance(
     `direction` from `shoulder`, to the `objects` (inf without any)."""
     along = body.upper_arm + body.forearm + np.linspace(0.0, body.hand, _HAND_SAMPLES)
     hand = shoulder + along[:, None] * direction
-    return min((float(obj.distance(hand).min()) for obj in objects), default=math.inf)
+    return _least_distance(hand, objects)
 
 
 def clear_aim(
@@ -67,3 +72,22 @@ def clear_aim(
         if hand_clearance(body, shoulder, direction, objects) >= POINT_CLEAR:
             return aim if step == 0 else shoulder + reach * direction
     return aim
+
+
+def lowering_clearance(
+    body: BodyDimensions, side: str, aim: np.ndarray, rest: np.ndarray, objects: list[Upright]
+) -> float:
+    """The least distance (m) from the hand's axis to the `objects` (inf without any) as the
+    straight arm on `side` aimed at `aim` goes back to the `rest` arm angles: a straight line
+    in joint space, as the actor moves."""
+    start = pointing_arm_angles(np.asarray(aim, dtype=float) - body.shoulder(side))
+    least = math.inf
+    for share in np.linspace(0.0, 1.0, _LOWER_SAMPLES):
+        joints = arm_points(body, side, start + share * (np.asarray(rest) - start))
+        hand = np.linspace(joints["wrist"], joints["tips"], _HAND_SAMPLES)
+        least = min(least, _least_distance(hand, objects))
+    return least
+
+
+def _least_distance(points: np.ndarray, objects: list[Upright]) -> float:
+    return min((float(obj.distance(points).min()) for obj in objects), default=math.inf)

@@ -20,14 +20,19 @@ from pydrake.multibody.plant import CoulombFriction, MultibodyPlant
 from pydrake.multibody.tree import ModelInstanceIndex
 
 from hsr_handover.hsr import GRIPPER_JOINT, GRIPPER_MIMIC_JOINT, TORSO_JOINT
-from hsr_handover.human.behavior import REACHES, Action
-from hsr_handover.human.body import BodyDimensions
+from hsr_handover.human.behavior import REACHES, Action, rest_posture
+from hsr_handover.human.body import BodyDimensions, arm_joint_indices
 from hsr_handover.human.imprecision import (
     draw_head_fraction,
     draw_pointing_error,
     perturb_direction,
 )
-from hsr_handover.human.pointing_clearance import Upright, clear_aim
+from hsr_handover.human.pointing_clearance import (
+    POINT_CLEAR,
+    Upright,
+    clear_aim,
+    lowering_clearance,
+)
 from hsr_handover.scenario import Scenario, ScenarioError, object_center
 from hsr_handover.scene.object_models import object_height, object_sdf
 from hsr_handover.scene.person_model import person_sdf
@@ -59,8 +64,9 @@ def person_actions(scenario: Scenario, body: BodyDimensions) -> list[Action]:
     """The scenario's behaviour script with object names resolved to points in the person frame,
     made as imprecise as `person.imprecision` says: each pointing arm turned off the
     shoulder-to-target ray by its own drawn error (the eyes stay on the target) and raised, if
-    need be, until its hand clears the objects (`clear_aim`; such a hand is withdrawn before
-    the arm lowers), every head turn short by this person's drawn fraction. The draws come
+    need be, until its hand clears the objects (`clear_aim`); such a hand, or one that would
+    sweep through an object as the arm lowers (`lowering_clearance`), is withdrawn before the
+    arm lowers. Every head turn is short by this person's drawn fraction. The draws come
     from the run's seed.
 
     The actor is part of the simulated world, so it may know where the objects really are.
@@ -83,7 +89,10 @@ def person_actions(scenario: Scenario, body: BodyDimensions) -> list[Action]:
             error = draw_pointing_error(rng, imprecision.pointing_error_deg)
             aimed = shoulder + perturb_direction(point - shoulder, error)
             arm_point = clear_aim(body, item.arm, aimed, uprights)
-            withdraw = not np.array_equal(arm_point, aimed)  # held over an object
+            rest = rest_posture(body, scenario.table.height)[arm_joint_indices(item.arm)]
+            raised = not np.array_equal(arm_point, aimed)  # held over an object
+            sweeps = lowering_clearance(body, item.arm, arm_point, rest, uprights) < POINT_CLEAR
+            withdraw = raised or sweeps
         end = None if item.duration is None else item.start + item.duration
         actions.append(Action(item.action, item.start, end, point, item.arm, head_fraction,
                               arm_point, withdraw))  # fmt: skip
