@@ -28,7 +28,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -411,7 +411,11 @@ def _median_ray(history: Sequence[tuple[float, Ray]]) -> Ray:
     return Ray(origin, unit_direction(heading, float(np.median(elevations))))
 
 
-def _since(history: Sequence[tuple[float, Ray]], start: float, central=_mean_ray) -> Ray | None:
+def _since(
+    history: Sequence[tuple[float, Ray]],
+    start: float,
+    central: Callable[[Sequence[tuple[float, Ray]]], Ray] = _mean_ray,
+) -> Ray | None:
     """The `central` ray (mean or median) of the rays seen after `start` (s); None without
     any."""
     recent = [(t, ray) for t, ray in history if t > start - 1e-9]
@@ -455,8 +459,9 @@ class RaySmoother:
         elif observation.arm != self._arm:
             self._pointing = []
         self._arm = observation.arm
-        pointing = self._add(self._pointing, time, observation.pointing, self.window)
+        self._add(self._pointing, time, observation.pointing, self.window)
         self._add(self._face, time, observation.face, max(self.window, self.pitch_window))
+        pointing = _since(self._pointing, time - self.window)
         face = _since(self._face, time - self.window, _median_ray)
         for_pitch = _since(self._face, time - self.pitch_window, _median_ray)
         sweep = self._sweep_deg_s() if pointing is not None else 0.0
@@ -464,11 +469,10 @@ class RaySmoother:
                                    face_for_pitch=for_pitch)  # fmt: skip
 
     @staticmethod
-    def _add(history: list, time: float, ray: Ray | None, window: float) -> Ray | None:
+    def _add(history: list, time: float, ray: Ray | None, window: float) -> None:
         if ray is not None:
             history.append((time, ray))
         history[:] = [(t, r) for t, r in history if t > time - window - 1e-9]
-        return _since(history, time - window)
 
     def _sweep_deg_s(self) -> float:
         history = self._pointing
