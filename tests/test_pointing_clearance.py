@@ -158,7 +158,16 @@ def test_a_hand_that_would_sweep_through_an_object_on_its_way_down_is_withdrawn(
     and touched it."""
     layout = load_scenario(SCENARIOS / "layouts" / "staggered_high_four.yaml")
     trial = make_trials(layout, 60, 0, 1)[12]
-    pointing = next(a for a in person_actions(trial.scenario, BODY) if a.kind == "point_at")
-    assert pointing.arm_point is not None
+    scenario = trial.scenario
+    sit_clear(scenario)
+    body = BodyDimensions.from_height(scenario.person.height, seated=True)
+    pointing = next(a for a in person_actions(scenario, body) if a.kind == "point_at")
+    uprights = object_uprights(scenario)
+    shoulder = body.shoulder(pointing.arm)
+    aimed = _unit(pointing.arm_point - shoulder)
+    assert hand_clearance(body, shoulder, aimed, uprights) >= POINT_CLEAR  # clear as pointed
+    rest = rest_posture(body, scenario.table.height)[arm_joint_indices(pointing.arm)]
+    lowering = lowering_clearance(body, pointing.arm, pointing.arm_point, rest, uprights)
+    assert lowering < POINT_CLEAR  # but not on the straight way down
     assert _least_hand_clearance(trial, withdraw=True) >= HAND_WIDTH / 2 + 0.01
     assert _least_hand_clearance(trial, withdraw=False) < HAND_WIDTH / 2
