@@ -98,3 +98,13 @@ def arm_points(body: BodyDimensions, side: str, angles: np.ndarray) -> dict[str,
     tips = wrist + body.hand * rot_fore @ rot_y(wrist_angle) @ hang
     return {"elbow": elbow_point, "wrist": wrist, "hand": wrist + body.hand / 2 * rot_fore @ hang,
             "tips": tips}  # fmt: skip
+
+
+def arm_move_points(
+    body: BodyDimensions, side: str, start: np.ndarray, goal: np.ndarray, samples: int
+) -> list[dict[str, np.ndarray]]:
+    """`arm_points` at `samples` evenly spaced poses of the arm's move from joint angles
+    `start` to `goal`: a straight line in joint space, as the actor moves."""
+    start, goal = np.asarray(start, dtype=float), np.asarray(goal, dtype=float)
+    return [arm_points(body, side, start + share * (goal - start))
+            for share in np.linspace(0.0, 1.0, samples)]  # fmt: skip

@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from hsr_handover.human.aiming import arm_points, pointing_arm_angles
+from hsr_handover.human.aiming import arm_move_points, pointing_arm_angles
 from hsr_handover.human.body import HAND_WIDTH, BodyDimensions
 
 POINT_CLEAR = HAND_WIDTH / 2 + 0.02
@@ -81,12 +81,9 @@ def lowering_clearance(
     straight arm on `side` aimed at `aim` goes back to the `rest` arm angles: a straight line
     in joint space, as the actor moves."""
     start = pointing_arm_angles(np.asarray(aim, dtype=float) - body.shoulder(side))
-    least = math.inf
-    for share in np.linspace(0.0, 1.0, _LOWER_SAMPLES):
-        joints = arm_points(body, side, start + share * (np.asarray(rest) - start))
-        hand = np.linspace(joints["wrist"], joints["tips"], _HAND_SAMPLES)
-        least = min(least, _least_distance(hand, objects))
-    return least
+    poses = arm_move_points(body, side, start, rest, _LOWER_SAMPLES)
+    hands = [np.linspace(joints["wrist"], joints["tips"], _HAND_SAMPLES) for joints in poses]
+    return _least_distance(np.concatenate(hands), objects)
 
 
 def _least_distance(points: np.ndarray, objects: list[Upright]) -> float:

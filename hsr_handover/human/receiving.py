@@ -19,7 +19,7 @@ from collections.abc import Sequence
 import numpy as np
 from scipy.spatial.distance import cdist
 
-from hsr_handover.human.aiming import arm_points, reaching_arm_angles
+from hsr_handover.human.aiming import arm_move_points, reaching_arm_angles
 from hsr_handover.human.behavior import REACHES, Action, rest_posture, target_posture
 from hsr_handover.human.body import (
     HAND_THICKNESS,
@@ -249,8 +249,7 @@ def path_clearance(
         return math.inf
     goal = reaching_arm_angles(point - body.shoulder(arm), body)
     limbs = []
-    for share in np.linspace(0.0, 1.0, PATH_SAMPLES):
-        joints = arm_points(body, arm, start + share * (goal - start))
+    for joints in arm_move_points(body, arm, start, goal, PATH_SAMPLES):
         limbs.append(_samples(joints["elbow"], joints["wrist"]))
         limbs.append(_samples(joints["wrist"], joints["tips"]))
     limb = np.concatenate(limbs)
