@@ -5,9 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from pydrake.math import RigidTransform
+from pydrake.systems.analysis import Simulator
 
 from hsr_handover.human.behavior import Action, PostureTimeline, posture_changes
 from hsr_handover.human.body import PERSON_JOINTS, BodyDimensions
+from hsr_handover.human.correcting import Corrector
 from hsr_handover.human.receiving import Receiver, ReceivingParams
 from hsr_handover.systems.human_actor import HumanActor, WorldBodies
 
@@ -50,3 +52,40 @@ def test_a_copied_state_has_its_own_receiver():
     copied.get_mutable_abstract_state(0).get_mutable_value().receiver.grip = "cup"
     assert actor.GetOutputPort("grip").Eval(copied) == "cup"
     assert actor.GetOutputPort("grip").Eval(context) == ""
+
+
+def test_a_corrector_without_a_receiver_is_rejected():
+    corrector = Corrector("cup", [], 0.5)
+    with pytest.raises(ValueError, match="corrector"):
+        HumanActor(_timeline(), PERSON_JOINTS, corrector=corrector)
+
+
+def test_the_person_asks_again_when_the_robot_lifts_another_object():
+    """On its own context, the plant's body poses fixed: the red cup rises off the table, and
+    the actor's output goes over to the request made again, `reaction_s` later."""
+    table = {"red": [0.8, -0.2, 0.75], "blue": [0.8, 0.2, 0.75]}
+    again = PostureTimeline([(0.0, np.zeros(len(PERSON_JOINTS)))])  # only its first posture
+    pointing = _timeline().evaluate(3.0)[0]
+    corrector = Corrector("blue", [(0.0, pointing)], reaction_s=0.5)
+    world = WorldBodies(hand=0, hand_middle=0.09, objects={"red": 1, "blue": 2},
+                        X_WP=RigidTransform())  # fmt: skip
+    receiver = Receiver(BODY, ReceivingParams(), wanted="blue")
+    actor = HumanActor(again, PERSON_JOINTS, receiver, world, corrector)
+    context = actor.CreateDefaultContext()
+    poses = actor.GetInputPort("body_poses")
+
+    def place(red_height: float) -> None:
+        red = np.add(table["red"], [0.0, 0.0, red_height])
+        poses.FixValue(context, [RigidTransform(), RigidTransform(red),
+                                 RigidTransform(table["blue"])])  # fmt: skip
+
+    place(0.0)
+    simulator = Simulator(actor, context)
+    simulator.AdvanceTo(0.5)
+    output = actor.GetOutputPort("person_desired_state")
+    np.testing.assert_allclose(output.Eval(context)[: len(PERSON_JOINTS)], 0.0)
+    place(0.1)  # the robot lifts the red cup
+    simulator.AdvanceTo(3.0)
+    np.testing.assert_allclose(output.Eval(context)[: len(PERSON_JOINTS)], pointing, atol=1e-6)
+    state = context.get_abstract_state(0).get_value()
+    assert state.corrector.corrected_at == pytest.approx(0.55, abs=0.051)

@@ -84,8 +84,12 @@ def judge(
 ) -> dict:
     """One trial's outcome from the robot's record (`cycle`), the truth (`score`) and what the
     person holds at the end; `names` maps the robot's labels (colours) to object names."""
-    recognised = names.get(cycle.target, cycle.target or "") if cycle.target else ""
-    retrieved = trial.target in score.lifted and not _wrong_first(trial.target, score)
+    recognised = _name(names, cycle.target)
+    corrected = cycle.first_target is not None
+    # An object lifted first and then put back at the person's correction is no failure.
+    retrieved = trial.target in score.lifted and (
+        corrected or not _wrong_first(trial.target, score)
+    )
     released = Phase.RELEASE.value in cycle.phase_times
     release_time = cycle.phase_times.get(Phase.RELEASE.value, math.nan)
     complete = max(score.gripped, release_time) + SUCCESS_HOLD_S  # nan until both happened
@@ -99,7 +103,10 @@ def judge(
     return {
         "index": trial.index, "target": trial.target, "arm": trial.arm, "takes": trial.takes,
         "reaction_s": trial.reaction_s, "held_out": bool(trial.hold_out),
-        "recognised": recognised, "outcome": cycle.phase.value,
+        "recognised": recognised,
+        "first_recognised": _name(names, cycle.first_target) or recognised,
+        "corrected": corrected, "corrected_s": cycle.corrected_time - trial.pointing_onset,
+        "outcome": cycle.phase.value,
         "robot_failure": cycle.failure.value if cycle.failure else "", "reason": cycle.reason,
         "retrieved": retrieved, "handed_over": handed_over, "person_holds": holds,
         "graceful": graceful, "failure": failure,
@@ -115,6 +122,11 @@ def judge(
         "watch_lift_m": cycle.watch_lift,
         "error": "",
     }  # fmt: skip
+
+
+def _name(names: dict[str, str], label: str | None) -> str:
+    """The object's name for the robot's `label` ("" for None)."""
+    return names.get(label, label) if label else ""
 
 
 def _wrong_first(target: str, score: TrialScore) -> bool:
@@ -189,7 +201,9 @@ def _median(values: list[float]) -> float:
 
 
 def summarise(experiment: HandoverExperiment) -> dict:
-    """The JSON summary: retrieval and handover rates beside the paper's, failures per class,
+    """The JSON summary: retrieval and handover rates beside the paper's, how often the object
+    first fetched was the one asked for and in how many trials the person corrected the robot
+    (which put the first object back and fetched the other), failures per class,
     contacts, the medians of recognition, planning and execution time over successful
     trials, the least clearance, in how many trials the robot watched from a raised torso,
     refusals handled, and the settings the trials ran with."""
@@ -206,6 +220,10 @@ def summarise(experiment: HandoverExperiment) -> dict:
         "trials": len(requests),
         "retrieval_rate": rate(sum(row["retrieved"] for row in requests), len(requests)),
         "handover_rate": rate(len(succeeded), len(requests)),
+        "first_choice_rate": rate(
+            sum(row.get("first_recognised") == row["target"] for row in requests), len(requests)
+        ),  # fmt: skip
+        "corrected": sum(bool(row.get("corrected")) for row in requests),
         "paper": PAPER,
         "failures": failures,
         "table_contacts": sum(row["table_contact"] for row in ran),

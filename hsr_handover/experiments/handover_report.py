@@ -46,6 +46,9 @@ def summary_lines(summary: dict) -> list[str]:
         f"{_percent(paper['retrieval_rate']):>8s}",
         f"{'handover':22s} {_percent(summary['handover_rate']):>8s} "
         f"{_percent(paper['handover_rate']):>8s}",
+        f"the object first fetched was the one asked for in "
+        f"{_percent(summary['first_choice_rate']).strip()}; the person corrected the robot in "
+        f"{summary['corrected']} (it put the first back and fetched the other)",
         "failures: " + (", ".join(f"{name} {count}" for name, count in
                                   summary["failures"].items() if count) or "none"),
         f"trials with contact: table {summary['table_contacts']}, person "

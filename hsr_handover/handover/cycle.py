@@ -4,7 +4,9 @@ hand, release when the person holds the object, retreat. Failures end it with a 
 
 It decides from percepts only (`Percepts`: the joint sensors, the gripper's measured opening,
 the intent estimator's target, the object as the camera sees it, the person's hand from the
-skeleton) and asks a `CyclePlanner` for motions. It knows nothing of Drake systems: the
+skeleton) and asks a `CyclePlanner` for motions. A person who asks for another object while the
+robot lifts or carries one (the intent estimator's correction) has that object put back where
+it stood and the other fetched, once. It knows nothing of Drake systems: the
 `HandoverSupervisor` steps it and follows the motion it gives.
 """
 
@@ -28,6 +30,7 @@ class Phase(enum.Enum):
     GRASP = "grasp"  # the gripper closing
     LIFT = "lift"
     CARRY = "carry"  # to the handover point
+    PUT_BACK = "put_back"  # the person asked for another object: the one lifted goes back
     PRESENT = "present"  # waiting for the person's hand
     RELEASE = "release"  # the gripper opening
     RETREAT = "retreat"
@@ -161,7 +164,8 @@ class Percepts:
     the joint sensors put the palm from where it is commanded (`pull`, m: a person tugging at
     the object held), the force the hand and its load exert on the wrist's sensor
     (`wrist_force`, N, world; None without the sensor) and a point of the person's face seen
-    now (`face`: the nose, an eye or an ear; None when none is)."""
+    now (`face`: the nose, an eye or an ear; None when none is), and another object the person
+    asked for after the target (`correction`, None if none)."""
 
     time: float
     q: np.ndarray
@@ -174,6 +178,7 @@ class Percepts:
     pull: float = 0.0
     wrist_force: np.ndarray | None = None
     face: np.ndarray | None = None
+    correction: str | None = None
 
 
 @dataclasses.dataclass(frozen=True)
@@ -207,6 +212,13 @@ class CyclePlanner(Protocol):
         """Back to the ready posture, with the object `held` or (None) without; `let_go` is the
         object just let go of (or missed), still between the fingers, to back away from."""
 
+    def put_back(
+        self, q: np.ndarray, held: object, lifted: np.ndarray, came: list[np.ndarray]
+    ) -> PlannedMotions:
+        """Holding `held`, back to `lifted` (the configuration the grasp's lift ended in) along
+        the way it `came` from there (configurations, possibly none), then down to where it
+        was grasped."""
+
 
 @dataclasses.dataclass
 class _Running:
@@ -219,8 +231,10 @@ class _Running:
 class Cycle:
     """The cycle's record: `phase`, `failure` (None unless failed), `reason`, when each phase
     began (`phase_times`, s), planning wall time (`planning_s`), when the target was
-    recognised (`recognised_time`) and which (`target`), and the arm lift (m) the robot
-    watched from (`watch_lift`; the supervisor's, 0 for the ready posture)."""
+    recognised (`recognised_time`) and which (`target`: the object fetched now), the arm lift
+    (m) the robot watched from (`watch_lift`; the supervisor's, 0 for the ready posture), and,
+    once the person has asked for another object, the one first fetched (`first_target`) and
+    when the correction was seen (`corrected_time`)."""
 
     phase: Phase = Phase.WATCH
     failure: Failure | None = None
@@ -230,6 +244,8 @@ class Cycle:
     phase_times: dict[str, float] = dataclasses.field(default_factory=dict)
     planning_s: float = 0.0
     watch_lift: float = 0.0
+    first_target: str | None = None
+    corrected_time: float = math.nan
 
     @property
     def over(self) -> bool:
@@ -267,6 +283,9 @@ class HandoverCycle:
         self._turned: float | None = None  # when it turned to the person, the object lifted
         self._blocked: float | None = None  # when the plan now wanted first found no way
         self._retry_at = -math.inf  # when to try that plan again
+        self._putting = ""  # putting back: "plan", "lower", "open"; "" otherwise
+        self._came: list[np.ndarray] = []  # the way it carried the object it puts back
+        self._next_target: str | None = None  # to fetch once the object lifted is back
         self.view = PlanView()  # what the plans so far show in the replay
 
     def __deepcopy__(self, memo: dict) -> HandoverCycle:
@@ -365,6 +384,8 @@ class HandoverCycle:
                 self._fail_and_retreat(p, Failure.GRASP_MISSED, reason)
                 return
             self._turned = p.time  # the person in view again before planning the way there
+        if self._corrected(p):
+            return
         if p.time - self._turned < LOOK_S or p.time < self._retry_at:
             return
         planned = self._plan(self._planner.carry(p.q, self._held), p, holding=True)
@@ -380,8 +401,60 @@ class HandoverCycle:
             self._start_presenting(p)
             self._empty_fingers(p)
             return
+        if self._corrected(p):
+            return
         if not self._moving(p.time):
             self._start_presenting(p)
+
+    def _corrected(self, p: Percepts) -> bool:
+        """Whether the person has asked for another object than the one lifted (heeded once
+        per cycle): the robot stands still, puts the object back and then fetches that one."""
+        asked = p.correction
+        if asked is None or asked == self.cycle.target or self.cycle.first_target is not None:
+            return False
+        self.cycle.first_target, self.cycle.corrected_time = self.cycle.target, p.time
+        self._next_target, self._putting = asked, "plan"
+        self._came = self._carried_so_far(p.time)
+        self._hold_still(p)
+        self._enter(Phase.PUT_BACK, p.time)
+        return True
+
+    def _carried_so_far(self, time: float, samples: int = 16) -> list[np.ndarray]:
+        """Configurations along the carry under way, from its start to `time` (none when it is
+        not carrying)."""
+        running = self._running
+        if running is None or running.name != "carry":
+            return []
+        elapsed = min(time - running.start, running.motion.duration)
+        return [running.motion.state(t)[0] for t in np.linspace(0.0, elapsed, samples)]
+
+    def _put_back(self, p: Percepts) -> None:
+        """Back over the object's place and down (`planner.put_back`), open, then retreat and
+        fetch the object the person asked for."""
+        holding = self._putting in ("plan", "lower")
+        if (holding and self._dropped(p)) or self._moving(p.time):
+            return
+        if self._putting == "plan":
+            if p.time < self._retry_at:
+                return
+            lift = self._lift_motion[1]
+            lifted = lift.state(lift.duration)[0]
+            put_back = self._planner.put_back(p.q, self._held, lifted, self._came)
+            planned = self._plan(put_back, p, holding=True)
+            if planned is not None:
+                self._queue, self._putting = list(planned.motions), "lower"
+        elif self._putting == "lower":
+            self._gripper, self._putting, self._since = OPEN, "open", p.time
+        elif p.time - self._since >= SETTLE_S:
+            self._fetch_next(p)
+
+    def _fetch_next(self, p: Percepts) -> None:
+        """The object is back where it stood and let go of: retreat from it, then watch
+        again, asked for the next object (`_watch` plans its grasp)."""
+        self._retreat_then(p, Phase.WATCH, None, "", holding=False)
+        self.cycle.target, self._next_target, self._putting = self._next_target, None, ""
+        self._held, self._lift_motion, self._turned = None, None, None
+        self._held_width, self._object_start = math.inf, None
 
     def _start_presenting(self, p: Percepts) -> None:
         self._enter(Phase.PRESENT, p.time)

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import dataclasses
 import time
+from collections.abc import Sequence
 
 import numpy as np
 from pydrake.math import RigidTransform
@@ -27,6 +28,7 @@ from hsr_handover.planning.planner import (
     plan_grasp,
     plan_handover,
     plan_posture,
+    plan_put_back,
     plan_retreat,
 )
 from hsr_handover.planning.planning_scene import PlanningScene
@@ -178,6 +180,15 @@ class PerceivedPlanner:
         if clearance < COLLISION_BOUND - DIP_ALLOWANCE:
             return None, f"the way to the hand comes {clearance:.3f} m near"
         return RetargetedMotion(motion), "ok"
+
+    def put_back(
+        self, q: np.ndarray, held: Held, lifted: np.ndarray, came: Sequence[np.ndarray] = ()
+    ) -> PlannedMotions:
+        """Holding `held`, back to `lifted` (where the grasp lifted it to) along the way it
+        `came`, then down to where it was grasped (`plan_put_back`)."""
+        started = time.perf_counter()
+        plan = plan_put_back(self._planning(), q, held, lifted, self.limits, came)
+        return self._motions(plan, started)
 
     def posture(self, q: np.ndarray, goal: np.ndarray) -> PlannedMotions:
         """From `q` to the posture `goal` (plant positions), holding nothing."""

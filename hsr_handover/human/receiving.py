@@ -88,23 +88,32 @@ class Receiving(enum.Enum):
 @dataclasses.dataclass(frozen=True)
 class ReceivingParams:
     """How this person takes an object: `takes` (False: never reaches, the robot must time
-    out), the reaction time `reaction_s` (s) from the offer to the reach, and the `arm`."""
+    out), the reaction time `reaction_s` (s) from the offer to the reach (and from seeing
+    another object lifted to asking again), the `arm`, and whether the person asks again
+    when the robot lifts an object other than the one asked for (`corrects`,
+    `human.correcting`)."""
 
     takes: bool = True
     reaction_s: float = 0.5
     arm: str = "right"
+    corrects: bool = True
 
 
 class Receiver:
     """Steps the person's side of the handover on true positions; `changes` are the postures
     it adds to the person's timeline, `grip` the object the hand holds ("" for none). The
     body not reaching keeps its rest posture at a table whose top is `table_top` (m, person
-    frame; see `rest_posture`)."""
+    frame; see `rest_posture`). A person who asked for an object (`wanted`) takes only that
+    one; "" takes whatever is held out."""
 
     def __init__(
-        self, body: BodyDimensions, params: ReceivingParams, table_top: float | None = None
+        self,
+        body: BodyDimensions,
+        params: ReceivingParams,
+        table_top: float | None = None,
+        wanted: str = "",
     ):
-        self._body, self._params = body, params
+        self._body, self._params, self._wanted = body, params, wanted
         self._rest = rest_posture(body, table_top)
         self.state = Receiving.WAITING
         self.grip = ""
@@ -180,6 +189,8 @@ class Receiver:
             first = self._first.setdefault(name, point)
             if before is None or time <= before[0] or point[2] < first[2] + RAISED:
                 continue
+            if self._wanted and name != self._wanted:
+                continue  # not what the person asked for
             speed = np.linalg.norm(point - before[1]) / (time - before[0])
             if speed < STILL_SPEED and np.linalg.norm(point - shoulder) < self._reach:
                 still = name

@@ -84,6 +84,7 @@ _RANGES = {  # (low, high, unit, whether low itself is allowed)
     "head_gain": (1.0, 3.0, "", True), "face_tilt_deg": (0.0, 90.0, "deg", True),
     "smoothing_s": (0.0, 10.0, "s", True), "steady_deg_s": (0.0, 1000.0, "deg/s", False),
     "bent_gap_s": (0.0, 10.0, "s", True), "pitch_smoothing_s": (0.0, 10.0, "s", True),
+    "correction_gaze_tolerance_deg": (0.0, 90.0, "deg", False),
 }  # fmt: skip
 
 
@@ -128,6 +129,10 @@ class IntentParams:
     ends; meanwhile its frames are judged with the rays it showed in the last `smoothing_s`
     (an arm pointing across the body or at the camera is foreshortened, and its lifted elbow
     lands on the forearm: the elbow angle of a held arm flickers between 100 and 170 deg).
+    correction_gaze_tolerance_deg: `gaze_tolerance_deg` for a correction (see
+    `IntentTracker`): the object first recognised is left out, and with it the neighbour the
+    person's gaze was confused with; the same person's gaze misses the same way again (a head
+    that turns half of a gaze shift read the red cup 42 degrees off as the yellow box at 30).
     Ranges: each in [low, high] of `_RANGES`; pointing_ray one of POINTING_RAYS.
     """
 
@@ -144,6 +149,7 @@ class IntentParams:
     pitch_smoothing_s: float = 1.5
     steady_deg_s: float = 30.0
     bent_gap_s: float = 0.2
+    correction_gaze_tolerance_deg: float = 24.0
 
     def __post_init__(self) -> None:
         for name, (low, high, unit, closed) in _RANGES.items():
@@ -494,7 +500,9 @@ class RaySmoother:
 class IntentState:
     """The recogniser's state after a frame: the recognised `target` (None until one is) with
     its `confidence` and `recognised_time` (s; NaN until then); the object the person is
-    asking for now (`candidate`, since `candidate_since`); and the frame's judgement."""
+    asking for now (`candidate`, since `candidate_since`); the frame's judgement; and, once a
+    target is recognised, another object the person asks for afterwards in a new gesture
+    (`correction`, at `correction_time`; see `IntentTracker`)."""
 
     target: str | None = None
     confidence: float = 0.0
@@ -502,15 +510,34 @@ class IntentState:
     candidate: str | None = None
     candidate_since: float = math.nan
     frame: FrameJudgement = FrameJudgement(None, 0.0, NO_SKELETON)
+    correction: str | None = None
+    correction_time: float = math.nan
 
     @property
     def status(self) -> str:
         return RECOGNISED if self.target is not None else self.frame.status
 
 
+@dataclasses.dataclass(frozen=True)
+class _CorrectionWatch:
+    """After the target is recognised: since when no arm has pointed (`free_since`), whether a
+    new gesture may now be read (`armed`), and its dwell (`candidate` since `since`)."""
+
+    free_since: float = math.nan
+    armed: bool = False
+    candidate: str | None = None
+    since: float = math.nan
+
+
 class IntentTracker:
     """The dwell over frames: the first object asked for, with the face confirming it at the
-    start and at the end, for `t_max` seconds, is the recognised target (latched)."""
+    start and at the end, for `t_max` seconds, is the recognised target (latched).
+
+    After that it watches for a correction: a person who sees the robot fetch the wrong object
+    asks again. Once no arm has pointed for `smoothing_s` (the first gesture's rays have left
+    the window), a new gesture that asks for another object than the target, by the same
+    dwell, is the `correction` (latched too). The objects are judged where they were last
+    seen."""
 
     def __init__(self, params: IntentParams | None = None):
         self.params = IntentParams() if params is None else params
@@ -520,6 +547,8 @@ class IntentTracker:
         )
         self._chest = SteadyFacing()
         self._shoulders = SteadyFacing()
+        self._correcting = _CorrectionWatch()
+        self._objects: dict[str, np.ndarray] = {}  # each candidate where last seen
 
     def __deepcopy__(self, memo: dict) -> IntentTracker:
         """The params and states are frozen and the facings are replaced, never changed in
@@ -554,28 +583,82 @@ class IntentTracker:
     ) -> IntentState:
         """Judge the frame captured at `time` (s), its rays smoothed over the recent frames,
         and advance the dwell. `torso_forward` is the chest's facing in this frame (the
-        skeleton's; None or NaN when not seen)."""
+        skeleton's; None or NaN when not seen). Once the target is recognised, the candidates
+        are every object seen so far, where last seen: the objects stay on the table while the
+        robot, fetching one, looks at the person."""
+        self._objects = self._objects | {label: center for label, center in candidates}
+        if self.state_.target is not None:
+            candidates = list(self._objects.items())
         frame = _nothing_to_judge(confidence, candidates)
+        observed = None
         if frame is None:
             centers = np.array([center for _, center in candidates], dtype=float)
-            observed = observe(points, confidence, centers, self.params)
-            seen = self._steady_forward(observed, torso_forward)
-            frame = judge(self._smoother.smooth(time, seen), candidates, self.params)
+            seen = self._steady_forward(
+                observe(points, confidence, centers, self.params), torso_forward
+            )
+            observed = self._smoother.smooth(time, seen)
+            frame = judge(observed, candidates, self.params)
         state = self.state_
         if state.target is not None:
-            self.state_ = dataclasses.replace(state, frame=frame)
+            self.state_ = self._correction(dataclasses.replace(state, frame=frame), time,
+                                           observed, candidates)  # fmt: skip
             return self.state_
-        if frame.candidate is None or (frame.candidate != state.candidate and not frame.face_seen):
-            candidate, since = None, math.nan  # nothing asked for: any dwell is broken
-        elif frame.candidate == state.candidate:
-            candidate, since = state.candidate, state.candidate_since
-        else:
-            candidate, since = frame.candidate, time  # a new request starts, face confirmed
+        candidate, since = _dwell(state.candidate, state.candidate_since, frame, time)
         target, recognised = None, math.nan
-        done = candidate is not None and time - since >= self.params.t_max - 1e-9
-        if done and frame.face_seen:
+        if self._dwelt(candidate, since, frame, time):
             target, recognised = candidate, time
         self.state_ = IntentState(
             target, frame.clarity if target else 0.0, recognised, candidate, since, frame
         )
         return self.state_
+
+    def _dwelt(self, candidate: str | None, since: float, frame: FrameJudgement, time: float):
+        """Whether `candidate` has been asked for `t_max` with the face seen now."""
+        done = candidate is not None and time - since >= self.params.t_max - 1e-9
+        return done and frame.face_seen
+
+    def _correction(
+        self,
+        state: IntentState,
+        time: float,
+        observed: Observation | None,
+        candidates: Sequence[tuple[str, np.ndarray]],
+    ) -> IntentState:
+        """`state` with a correction, once a new gesture has asked for another object than the
+        target for `t_max`."""
+        watch = self._correcting
+        if state.correction is not None:
+            return state
+        if not watch.armed:
+            if state.frame.pointing is not None:
+                watch = _CorrectionWatch()  # the first gesture still points
+            elif math.isnan(watch.free_since):
+                watch = _CorrectionWatch(free_since=time)
+            elif time - watch.free_since >= self.params.smoothing_s:
+                watch = _CorrectionWatch(watch.free_since, armed=True)
+            self._correcting = watch
+            return state
+        others = [(label, center) for label, center in candidates if label != state.target]
+        if observed is None or not others:
+            return state
+        relaxed = dataclasses.replace(
+            self.params, gaze_tolerance_deg=self.params.correction_gaze_tolerance_deg
+        )
+        frame = judge(observed, others, relaxed)
+        candidate, since = _dwell(watch.candidate, watch.since, frame, time)
+        self._correcting = dataclasses.replace(watch, candidate=candidate, since=since)
+        if not self._dwelt(candidate, since, frame, time):
+            return state
+        return dataclasses.replace(state, correction=candidate, correction_time=time)
+
+
+def _dwell(
+    candidate: str | None, since: float, frame: FrameJudgement, time: float
+) -> tuple[str | None, float]:
+    """The object asked for and since when, after `frame` at `time`: a new request starts
+    only with the face seen; nothing asked for breaks the dwell."""
+    if frame.candidate is None or (frame.candidate != candidate and not frame.face_seen):
+        return None, math.nan
+    if frame.candidate == candidate:
+        return candidate, since
+    return frame.candidate, time

@@ -178,16 +178,19 @@ class VariationConfig:
 class ReceivingConfig:
     """How the person takes an object the robot holds out (the world side of a handover):
     `takes` (false: never reaches, so the robot must give up), `reaction_s` from the offer
-    (the object still and within reach) to the reach, and the `arm`.
+    (the object still and within reach) to the reach, the `arm`, and `corrects` (false: a
+    person who sees the robot lift another object than the one asked for does not ask again).
+    A person who asked for an object takes only that one.
 
     Ranges: reaction_s in [0, 10] s; arm "right" or "left"."""
 
     takes: bool = ReceivingParams.takes
     reaction_s: float = ReceivingParams.reaction_s
     arm: str = ReceivingParams.arm
+    corrects: bool = ReceivingParams.corrects
 
     def params(self) -> ReceivingParams:
-        return ReceivingParams(self.takes, self.reaction_s, self.arm)
+        return ReceivingParams(self.takes, self.reaction_s, self.arm, self.corrects)
 
 
 @dataclasses.dataclass

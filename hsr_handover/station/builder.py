@@ -37,6 +37,7 @@ from hsr_handover import interface
 from hsr_handover.hsr import GRIPPER_CAPSULES, actuated_joint_names, add_hsr
 from hsr_handover.human.behavior import PostureTimeline, posture_changes
 from hsr_handover.human.body import PERSON_JOINTS, BodyDimensions
+from hsr_handover.human.correcting import Corrector
 from hsr_handover.human.receiving import Receiver
 from hsr_handover.perception.skeleton import SkeletonNoise
 from hsr_handover.scenario import (
@@ -51,12 +52,14 @@ from hsr_handover.station.recorded_skeleton import add_recorded_skeleton
 from hsr_handover.station.world import (
     add_floor,
     add_world,
+    correction_actions,
     couple_default_positions,
     floor_filter,
     person_actions,
     person_pose,
     render_params,
     set_default_positions,
+    wanted_object,
 )
 from hsr_handover.systems.hand_grip import GrippedBody, HandGrip
 from hsr_handover.systems.head_camera import HeadCamera, to_camera_info
@@ -118,13 +121,15 @@ def _add_person(builder, plant, robot, person, objects, body, timeline, scenario
     hand = plant.GetBodyByName(f"{params.arm[0]}_hand", person)
     bodies = {name: _gripped_body(plant, instance) for name, instance in objects.items()}
     world = _world_bodies(plant, robot, hand, objects, bodies, body.hand / 2, scenario)
+    wanted = wanted_object(scenario)
     actor = builder.AddNamedSystem(
         "human_actor",
         HumanActor(
             timeline,
             actuated_joint_names(plant, person),
-            Receiver(body, params, scenario.table.height),
+            Receiver(body, params, scenario.table.height, wanted),
             world,
+            _corrector(body, scenario, wanted) if params.corrects else None,
         ),
     )
     builder.Connect(
@@ -142,6 +147,15 @@ def _add_person(builder, plant, robot, person, objects, body, timeline, scenario
     builder.Connect(
         grip.GetOutputPort("spatial_forces"), plant.get_applied_spatial_force_input_port()
     )
+
+
+def _corrector(body: BodyDimensions, scenario: Scenario, wanted: str) -> Corrector | None:
+    """The person asking again if the robot lifts another object (None with nothing asked)."""
+    actions = correction_actions(scenario, body)
+    if not wanted or not actions:
+        return None
+    changes = posture_changes(body, actions, scenario.table.height)[1:]  # not the rest at 0
+    return Corrector(wanted, changes, scenario.person.receiving.reaction_s)
 
 
 def _world_bodies(plant, robot, hand, objects, bodies, hand_middle, scenario) -> WorldBodies:

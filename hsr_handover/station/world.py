@@ -33,7 +33,7 @@ from hsr_handover.human.pointing_clearance import (
     clear_aim,
     lowering_clearance,
 )
-from hsr_handover.scenario import Scenario, ScenarioError, object_center
+from hsr_handover.scenario import ActionConfig, Scenario, ScenarioError, object_center
 from hsr_handover.scene.object_models import object_height, object_sdf
 from hsr_handover.scene.person_model import person_sdf
 from hsr_handover.scene.table_model import table_sdf
@@ -42,6 +42,9 @@ FLOOR_FRICTION = CoulombFriction(0.6, 0.5)
 FLOOR_SIZE = (40.0, 40.0, 0.1)  # m: the room's floor, its top at z = 0
 PERSON_STREAM = 0x9E4
 """Keys the person's random draws apart from the other users of the run's seed."""
+CORRECTION_STREAM = 0x9E5
+"""Keys the draws of the person's request made again (`correction_actions`): its own, so a
+script's draws are the same whether or not the person ever corrects the robot."""
 
 
 def person_pose(scenario: Scenario) -> RigidTransform:
@@ -71,14 +74,49 @@ def person_actions(scenario: Scenario, body: BodyDimensions) -> list[Action]:
 
     The actor is part of the simulated world, so it may know where the objects really are.
     """
+    rng = np.random.default_rng([scenario.simulation.seed, PERSON_STREAM])
+    head_fraction = draw_head_fraction(rng, scenario.person.imprecision.model())
+    return _resolved(scenario, body, scenario.person.behavior, rng, head_fraction)
+
+
+def wanted_object(scenario: Scenario) -> str:
+    """The object the script's last pointing asks for ("" when it points at nothing)."""
+    requests = [item for item in scenario.person.behavior if item.action == "point_at"]
+    return requests[-1].target if requests else ""
+
+
+def correction_actions(scenario: Scenario, body: BodyDimensions) -> list[Action]:
+    """The script's last request made again, from time 0 (the person asking once more when the
+    robot lifts another object): the look at the object, then the pointing as long after it
+    and for as long as in the script, with a pointing error of its own (drawn from its own
+    stream of the run's seed) and this person's head fraction. Empty when nothing is asked."""
+    requests = [item for item in scenario.person.behavior if item.action == "point_at"]
+    if not requests:
+        return []
+    point = requests[-1]
+    looks = [item for item in scenario.person.behavior
+             if item.action == "look_at" and item.target == point.target
+             and item.start <= point.start]  # fmt: skip
+    lead = point.start - looks[-1].start if looks else 0.0
+    items = [
+        ActionConfig("look_at", 0.0, target=point.target),
+        ActionConfig("point_at", lead, point.duration, target=point.target, arm=point.arm),
+    ]
+    person = np.random.default_rng([scenario.simulation.seed, PERSON_STREAM])
+    head_fraction = draw_head_fraction(person, scenario.person.imprecision.model())
+    rng = np.random.default_rng([scenario.simulation.seed, CORRECTION_STREAM])
+    return _resolved(scenario, body, items, rng, head_fraction)
+
+
+def _resolved(scenario, body, items, rng, head_fraction: float) -> list[Action]:
+    """`items` (ActionConfig) as Actions in the person frame, pointing errors drawn from
+    `rng` (see `person_actions`)."""
     to_person = person_pose(scenario).inverse()
     centers = {obj.name: object_center(scenario, obj) for obj in scenario.objects}
     uprights = object_uprights(scenario)
     imprecision = scenario.person.imprecision.model()
-    rng = np.random.default_rng([scenario.simulation.seed, PERSON_STREAM])
-    head_fraction = draw_head_fraction(rng, imprecision)
     actions = []
-    for item in scenario.person.behavior:
+    for item in items:
         world_point = centers.get(item.target) if item.target else None
         if item.action in REACHES:
             world_point = np.asarray(item.point, dtype=float)

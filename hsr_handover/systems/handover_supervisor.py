@@ -10,8 +10,8 @@ would hide a pointing arm from its camera (`watch_view`), and watches from there
 Outputs: `hsr_desired_state` ([q; v] of COMMANDED_JOINTS: the motion under way, else where it
 stands; the ready posture before any), `gripper_desired_opening`, `cycle` (the record),
 `plan_view` (PlanView: what the plans show in the replay) and `watching` (1 while the cycle
-watches for a request, else 0: the perception that serves only the watch rests, see
-`systems.watching`).
+watches for a request, and while it lifts and carries an object the person may still correct,
+else 0: the perception that serves only the watch rests, see `systems.watching`).
 """
 
 from __future__ import annotations
@@ -208,7 +208,8 @@ class HandoverSupervisor(LeafSystem):
     ) -> Percepts:
         q = self._measured(context)
         opening = float(self._opening.Eval(context)[0])
-        target = self._intent.Eval(context).target
+        intent = self._intent.Eval(context)
+        target = intent.target
         wanted = cycle.cycle.target or target  # what it is fetching, once it has begun
         seen = None
         for detection in self._detections.Eval(context).detections:
@@ -225,7 +226,8 @@ class HandoverSupervisor(LeafSystem):
         )
         wrist_force = palm_pose.rotation() @ self._wrench.Eval(context)[3:]
         return Percepts(context.get_time(), q, opening, target, seen, _wrist(skeleton), palm,
-                        person, float(pull), wrist_force, _face(skeleton))  # fmt: skip
+                        person, float(pull), wrist_force, _face(skeleton),
+                        intent.correction)  # fmt: skip
 
     def _calc_state(self, context: Context, output: BasicVector) -> None:
         time = context.get_time()
@@ -262,8 +264,9 @@ class HandoverSupervisor(LeafSystem):
         output.SetFromVector([cycle.gripper])
 
     def _calc_watching(self, context: Context, output: BasicVector) -> None:
-        watching = self._memory_of(context).cycle.cycle.phase is Phase.WATCH
-        output.SetFromVector([1.0 if watching else 0.0])
+        cycle = self._memory_of(context).cycle.cycle
+        correctable = cycle.phase in (Phase.LIFT, Phase.CARRY) and cycle.first_target is None
+        output.SetFromVector([1.0 if cycle.phase is Phase.WATCH or correctable else 0.0])
 
     def _calc_cycle(self, context: Context, output: AbstractValue) -> None:
         memory = self._memory_of(context)

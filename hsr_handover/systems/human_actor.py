@@ -15,6 +15,7 @@ from pydrake.systems.framework import BasicVector, Context, LeafSystem, State
 
 from hsr_handover.human.behavior import PostureTimeline
 from hsr_handover.human.body import PERSON_JOINTS
+from hsr_handover.human.correcting import Corrector
 from hsr_handover.human.receiving import Receiver, Receiving
 from hsr_handover.systems.contact_pairs import contact_pairs
 
@@ -50,11 +51,16 @@ class WorldBodies:
 class _Acting:
     timeline: PostureTimeline
     receiver: Receiver | None
+    corrector: Corrector | None = None
 
     def __deepcopy__(self, memo: dict) -> _Acting:
         """Drake copies the state at every update: the timeline is never changed once made
         (`interrupted` makes a new one), so the copies share it."""
-        return _Acting(self.timeline, copy.deepcopy(self.receiver, memo))
+        return _Acting(
+            self.timeline,
+            copy.deepcopy(self.receiver, memo),
+            copy.deepcopy(self.corrector, memo),
+        )
 
 
 class HumanActor(LeafSystem):
@@ -65,7 +71,9 @@ class HumanActor(LeafSystem):
     `world` bodies it watches), input `body_poses` (the plant's) lets the person react: the
     receiver's postures interrupt the script, and output `grip` names the object the hand
     holds ("" for none). Input `contact_results` (the plant's; optional) tells what the hand
-    touches: the hand closes on what it reaches for when it strikes it.
+    touches: the hand closes on what it reaches for when it strikes it. With a `corrector`
+    (which needs the receiver's inputs too) the person asks again when the robot lifts an
+    object other than the one asked for.
     """
 
     def __init__(
@@ -74,6 +82,7 @@ class HumanActor(LeafSystem):
         joint_order: Sequence[str],
         receiver: Receiver | None = None,
         world: WorldBodies | None = None,
+        corrector: Corrector | None = None,
     ):
         super().__init__()
         unknown = [name for name in joint_order if name not in PERSON_JOINTS]
@@ -81,9 +90,13 @@ class HumanActor(LeafSystem):
             raise ValueError(f"joint_order: expected names from PERSON_JOINTS, got {unknown}")
         if (receiver is None) != (world is None):
             raise ValueError("receiver and world: expected both or neither")
+        if corrector is not None and receiver is None:
+            raise ValueError("corrector: expected a receiver and world beside it")
         self._order = np.array([PERSON_JOINTS.index(name) for name in joint_order])
         self._world = world
-        self._acting = self.DeclareAbstractState(AbstractValue.Make(_Acting(timeline, receiver)))
+        self._acting = self.DeclareAbstractState(
+            AbstractValue.Make(_Acting(timeline, receiver, corrector))
+        )
         self.DeclareVectorOutputPort(
             "person_desired_state", 2 * len(self._order), self._calc_desired_state
         )
@@ -112,6 +125,8 @@ class HumanActor(LeafSystem):
             self._touching(context) if acting.receiver.state is Receiving.REACHING else frozenset()
         )
         changes = acting.receiver.update(time, objects, hand, gripper, posture, touching)
+        if acting.corrector is not None:
+            changes = sorted(acting.corrector.update(time, objects) + changes, key=_start)
         for start, goal in changes:
             acting.timeline = acting.timeline.interrupted(start, goal)
 
@@ -128,3 +143,7 @@ class HumanActor(LeafSystem):
     def _calc_grip(self, context: Context, output: AbstractValue) -> None:
         receiver = context.get_abstract_state(self._acting).get_value().receiver
         output.set_value("" if receiver is None else receiver.grip)
+
+
+def _start(change: tuple[float, np.ndarray]) -> float:
+    return change[0]

@@ -1,11 +1,13 @@
-"""The robot's `watching` signal (1 while its handover cycle watches for a request, 0 while it
-acts): the perception that serves only the watch rests while the robot acts.
+"""The robot's `watching` signal (1 while its handover cycle watches for a request, or for the
+person's correction while it lifts and carries the object, 0 while it otherwise acts): the
+perception that serves only the watch rests while the robot acts.
 
 The scene map feeds only the intent estimator (through the detections' cross-check), and the
-supervisor reads the intent only until it has a target; the planner works from detections, the
-table and the skeleton, which it reads at its own ticks. Resting the two leaves every decision
-as it was, and the camera renders only the frames something still reads: while the robot acts,
-the supervisor's frames (one in three) and the table fit's (one in six), against all of them.
+supervisor reads the intent only until it has a target (and a correction); the planner works
+from detections, the table and the skeleton, which it reads at its own ticks. Resting the two
+leaves every decision as it was, and the camera renders only the frames something still
+reads: while the robot acts, the supervisor's frames (one in three) and the table fit's (one in
+six), against all of them.
 """
 
 from __future__ import annotations

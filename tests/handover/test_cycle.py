@@ -75,8 +75,13 @@ class Planner:
         return PlannedMotions(True, "ok", (("follow", Line(q, q + 0.5, 0.5)),), 0.01)
 
     def retreat(self, q, held, let_go=None):
-        self.asked.append(("retreat", held))
+        self.asked.append(("retreat", held, let_go))
         return PlannedMotions(True, "ok", (("retreat", Line(q, np.zeros_like(q))),), 0.1)
+
+    def put_back(self, q, held, lifted, came):
+        self.asked.append(("put back", held, tuple(lifted), len(came)))
+        motions = (("put back", Line(q, lifted)), ("lower", Line(lifted, lifted - 1)))
+        return PlannedMotions(True, "ok", motions, 0.2)
 
 
 class World:
@@ -91,6 +96,7 @@ class World:
         self.palm = np.array([1.2, 0.2, 0.95])
         self.person, self.pull = np.array([1.7, 0.2, 1.2]), 0.0
         self.face = None
+        self.correction = None
         self.wrist_force = np.array([0.0, 0.0, -WEIGHT])  # N: the hand and its load hang
 
     def tick(self, seconds: float = TICK):
@@ -101,7 +107,7 @@ class World:
             self.q = self.q if q is None else q
             percepts = Percepts(self.time, self.q, self.opening, self.target, self.seen,
                                 self.hand, self.palm, self.person, self.pull,
-                                self.wrist_force, self.face)  # fmt: skip
+                                self.wrist_force, self.face, self.correction)  # fmt: skip
             record = self.cycle.step(percepts)
         return record
 
@@ -157,7 +163,7 @@ def test_a_whole_handover_runs_through_every_phase_in_order():
     assert record.planning_s == pytest.approx(0.3 + 0.5 + 0.1)
     assert [ask[0] for ask in world.planner.asked] == ["grasp", "carry", "retreat"]
     assert world.planner.asked[1] == ("carry", "the grasp")  # the grasp's hold, carried
-    assert world.planner.asked[2] == ("retreat", None)  # let go: retreats empty-handed
+    assert world.planner.asked[2] == ("retreat", None, "the grasp")  # let go: empty-handed
 
 
 def test_a_request_waits_to_be_planned_for_until_the_robot_stops_moving_on_another_command():
@@ -279,7 +285,7 @@ def test_no_hand_in_time_fails_by_timeout_and_the_robot_keeps_the_object():
     record = world.until(Phase.FAILED, limit=WAIT_S + 5)
     assert record.failure is Failure.TIMEOUT and "holding it" in record.reason
     assert world.cycle.command(world.time)[2] == CLOSED
-    assert world.planner.asked[-1] == ("retreat", "the grasp")
+    assert world.planner.asked[-1] == ("retreat", "the grasp", None)
 
 
 def test_a_person_out_of_sight_while_presenting_withdrew():
@@ -563,3 +569,82 @@ def test_fingers_that_hold_again_restart_the_wait_before_judging_them_empty():
     world.tick(EMPTY_S - TICK)
     assert world.cycle.cycle.phase is Phase.PRESENT  # waited afresh, not judged at once
     assert world.until(Phase.FAILED).failure is Failure.DROPPED
+
+
+def _carrying() -> World:
+    """A world whose robot carries the object it lifted (the yellow one) toward the person."""
+    world = _closed_on(0.06)
+    world.until(Phase.LIFT)
+    world.seen = OBJECT + [0, 0, 0.08]  # it rises with the hand
+    world.until(Phase.CARRY)
+    world.tick(0.5)  # part way: the carry takes 2 s
+    return world
+
+
+def test_a_correction_while_carrying_puts_the_object_back_and_fetches_the_one_asked_for():
+    world = _carrying()
+    carried_to = world.q.copy()
+    world.correction = "red"
+    world.tick()
+    record = world.cycle.cycle
+    assert record.phase is Phase.PUT_BACK and record.first_target == "yellow"
+    assert record.corrected_time == pytest.approx(world.time)
+    assert record.target == "yellow"  # still the one in the hand, until it is back
+    world.tick()  # it plans from standing still
+    lifted = np.full(3, 3.0)  # where the fake grasp's lift ended
+    ask = world.planner.asked[-1]
+    assert ask[:3] == ("put back", "the grasp", tuple(lifted)) and ask[3] > 2  # the way it came
+    assert world.cycle.command(world.time)[2] == CLOSED  # it holds the object on the way back
+    world.tick(2.5)  # back over its place, then down (two 1 s moves)
+    assert np.allclose(world.q, lifted - 1) and world.cycle.command(world.time)[2] == OPEN
+    assert world.cycle.cycle.phase is Phase.PUT_BACK  # the fingers open before it leaves
+    world.opening = 0.1
+    world.until(Phase.RETREAT)
+    assert world.planner.asked[-1] == ("retreat", None, "the grasp")  # away from what it let go
+    assert world.cycle.cycle.target == "red"
+    world.seen = OBJECT + [0.0, 0.2, 0.0]  # the red one, where it stands
+    world.until(Phase.APPROACH)  # the estimator's first target stays: it fetches the new one
+    assert world.planner.asked[-1] == ("grasp", "red")
+    assert not np.allclose(carried_to, world.q) and world.cycle.cycle.failure is None
+
+
+def test_a_correction_is_heeded_once_and_not_for_the_object_in_hand():
+    world = _carrying()
+    world.correction = "yellow"  # the object it carries: nothing to correct
+    world.tick(0.3)
+    assert world.cycle.cycle.phase is Phase.CARRY and world.cycle.cycle.first_target is None
+    world.correction = "red"
+    world.until(Phase.PUT_BACK)
+    world.opening = 0.1
+    world.seen = OBJECT + [0.0, 0.2, 0.0]
+    world.until(Phase.APPROACH)
+    world.until(Phase.GRASP)
+    world.opening = 0.06
+    world.until(Phase.LIFT)
+    world.seen = OBJECT + [0.0, 0.2, 0.08]
+    world.correction = "blue"  # a second correction: the robot goes on with the first
+    world.until(Phase.CARRY)
+    assert world.cycle.cycle.target == "red" and world.cycle.cycle.first_target == "yellow"
+
+
+def test_a_correction_before_the_lift_is_seen_to_succeed_waits_for_it():
+    """While the hand closes (the camera on the object, the person out of its view) the robot
+    does not put back: a correction counts from the lift on."""
+    world = _closed_on(0.06)
+    world.correction = "red"
+    world.until(Phase.LIFT)
+    assert world.cycle.cycle.first_target is None
+    world.seen = OBJECT + [0, 0, 0.08]
+    world.until(Phase.PUT_BACK)
+    world.tick()
+    assert world.planner.asked[-1][0] == "put back"
+    assert world.planner.asked[-1][3] == 0  # not carrying yet: no way to come back along
+
+
+def test_a_put_back_that_drops_the_object_fails_as_dropped():
+    world = _carrying()
+    world.correction = "red"
+    world.tick()
+    world.opening = 0.0  # the fingers close on nothing on the way back
+    record = world.until(Phase.RETREAT)
+    assert record.failure is Failure.DROPPED

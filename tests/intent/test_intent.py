@@ -471,3 +471,75 @@ def test_the_face_is_the_median_of_its_window_so_one_wild_frame_does_not_turn_it
     np.testing.assert_allclose(seen.face.origin, steady.origin)
     mean = steady.direction * 9 + wild.direction
     assert math.degrees(math.atan2(mean[1], mean[0])) > 172.0  # the mean would turn
+
+
+def _run(tracker, start, seconds, points, confidence, candidates=CUPS, rate=30.0):
+    """Feed the same frame from `start` for `seconds`; the states and the time after."""
+    times = start + np.arange(0.0, seconds, 1 / rate)
+    return [tracker.update(t, points, confidence, candidates) for t in times], times[-1] + 1 / rate
+
+
+def _recognised_green(params: IntentParams) -> tuple[IntentTracker, float]:
+    """A tracker that has recognised the green cup (pointed at and looked at for 1.5 s)."""
+    tracker = IntentTracker(params)
+    points, confidence = keypoints(look_at=CUPS[1][1], point_with="right", point_at=CUPS[1][1])
+    states, time = _run(tracker, 0.0, 1.5, points, confidence)
+    assert states[-1].target == "green"
+    return tracker, time
+
+
+def test_after_the_target_a_new_gesture_at_another_object_is_a_correction():
+    params = IntentParams(t_max=0.5)
+    tracker, time = _recognised_green(params)
+    resting, confidence = keypoints(look_at=CUPS[1][1])
+    states, time = _run(tracker, time, params.smoothing_s + 0.5, resting, confidence)
+    assert all(state.correction is None for state in states)
+    blue, confidence = keypoints(look_at=CUPS[2][1], point_with="right", point_at=CUPS[2][1])
+    states, _ = _run(tracker, time, 2.0, blue, confidence)
+    corrected = [state for state in states if state.correction is not None]
+    assert corrected and all(state.correction == "blue" for state in corrected)
+    assert corrected[0].correction_time >= time + params.t_max - 1e-9
+    assert corrected[0].target == "green"  # the first target stays what it was
+
+
+def test_no_correction_without_the_arm_lowered_for_the_smoothing_window_first():
+    params = IntentParams(t_max=0.5)
+    tracker, time = _recognised_green(params)
+    blue, confidence = keypoints(look_at=CUPS[2][1], point_with="right", point_at=CUPS[2][1])
+    states, time = _run(tracker, time, 2.0, blue, confidence)  # swung on without a rest
+    assert all(state.correction is None for state in states)
+    resting, confidence = keypoints(look_at=CUPS[1][1])
+    _run(tracker, time, params.smoothing_s / 2, resting, confidence)  # lowered too briefly
+    green, confidence = keypoints(look_at=CUPS[1][1], point_with="right", point_at=CUPS[1][1])
+    states, _ = _run(tracker, time + params.smoothing_s / 2, 2.0, green, confidence)
+    assert all(state.correction is None for state in states)  # the target again: no change
+
+
+def test_a_correction_judges_the_objects_where_they_were_last_seen():
+    """Carrying one object, the robot looks at the person: the others go out of its view."""
+    params = IntentParams(t_max=0.5)
+    tracker, time = _recognised_green(params)
+    resting, confidence = keypoints(look_at=CUPS[1][1])
+    _, time = _run(tracker, time, params.smoothing_s + 0.5, resting, confidence, candidates=[])
+    blue, confidence = keypoints(look_at=CUPS[2][1], point_with="right", point_at=CUPS[2][1])
+    states, _ = _run(tracker, time, 2.0, blue, confidence, candidates=CUPS[1:2])
+    assert states[-1].correction == "blue"
+
+
+def test_a_correction_reads_the_gaze_with_its_own_tolerance():
+    """The same person's gaze misses the same way again: with the object first read left out,
+    the eyes need only lean the arm's way (a head turned short of the blue cup)."""
+    short_of_blue = CUPS[1][1] + 0.5 * (CUPS[2][1] - CUPS[1][1])
+    blue = CUPS[2][1]
+
+    def corrected(tolerance: float) -> str | None:
+        params = IntentParams(t_max=0.5, correction_gaze_tolerance_deg=tolerance)
+        tracker, time = _recognised_green(params)
+        resting, confidence = keypoints(look_at=CUPS[1][1])
+        _, time = _run(tracker, time, params.smoothing_s + 0.5, resting, confidence)
+        points, confidence = keypoints(look_at=short_of_blue, point_with="right", point_at=blue)
+        states, _ = _run(tracker, time, 2.0, points, confidence)
+        return states[-1].correction
+
+    assert corrected(IntentParams().correction_gaze_tolerance_deg) == "blue"
+    assert corrected(IntentParams().gaze_tolerance_deg / 4) is None
