@@ -17,6 +17,7 @@ from hsr_handover.experiments.handover import (
     SUCCESS_HOLD_S,
     HandoverExperiment,
     judge,
+    run_handover_trial,
     summarise,
 )
 from hsr_handover.experiments.handover_report import plot, summary_lines, write_csv
@@ -133,6 +134,21 @@ def test_contact_after_the_handover_is_complete_is_counted_but_does_not_fail_it(
     assert not before["handed_over"] and before["failure"] == "person contact"
 
 
+def test_a_wrong_object_put_back_at_the_persons_correction_is_no_failure(box_trial):
+    corrected = dataclasses.replace(_cycle(), first_target="red", corrected_time=8.0)
+    both = _score(lifted={"red_cup": 7.0, "yellow_box": 12.0})
+    row = judge(box_trial, corrected, both, "yellow_box", NAMES)
+    assert (row["retrieved"], row["handed_over"], row["failure"]) == (True, True, "")
+    assert (row["first_recognised"], row["recognised"], row["corrected"]) == (
+        "red_cup", "yellow_box", True)  # fmt: skip
+    assert row["corrected_s"] == pytest.approx(8.0 - box_trial.pointing_onset)
+    uncorrected = judge(box_trial, _cycle(), both, "yellow_box", NAMES)
+    assert not uncorrected["retrieved"]  # another object lifted first and never put back
+    wrong_again = dataclasses.replace(corrected, first_target="yellow", target="red")
+    row = judge(box_trial, wrong_again, both, "red_cup", NAMES)
+    assert (row["failure"], row["handed_over"]) == ("wrong object", False)
+
+
 def test_a_cycle_still_running_at_the_limit_timed_out(box_trial):
     running = _cycle(phases=("approach", "grasp", "lift", "carry", "present"))
     row = judge(box_trial, running, _score(gripped=math.nan), "", NAMES)
@@ -183,6 +199,7 @@ def test_the_summary_counts_every_trial_crashed_ones_too(base, box_trial, refusa
     assert summary["paper"] == {"retrieval_rate": 0.866, "handover_rate": 0.90}
     assert summary["crashed"] == [{"index": box_trial.index, "error": "RuntimeError: boom"}]
     assert summary["watched_raised"] == 1
+    assert summary["first_choice_rate"] == pytest.approx(3 / 4) and summary["corrected"] == 0
 
 
 def test_results_are_written_as_csv_json_text_and_a_figure(base, box_trial, refusal, tmp_path):
@@ -241,3 +258,15 @@ def test_the_json_keys_the_issue_names(base, box_trial, refusal, tmp_path):
                 "person_contacts", "times_s", "min_clearance_m", "wall_s"):  # fmt: skip
         assert key in data
     assert set(data["times_s"]) == {"recognition", "planning", "execution"}
+
+
+@pytest.mark.slow
+def test_a_person_corrects_the_robot_which_puts_the_wrong_object_back_and_hands_over_another():
+    """The moved layout's trial 12 of seed 2, end to end: a head that turns 0.49 of a gaze
+    shift reads as asking for the yellow box; the person, seeing it lifted, asks again for the
+    red cup; the robot puts the box back and hands the cup over."""
+    base = load_scenario(SCENARIOS / "layouts" / "moved_base_four.yaml")
+    row = run_handover_trial(make_trials(base, 60, 0, seed=2)[12])
+    assert (row["first_recognised"], row["recognised"]) == ("yellow_box", "red_cup")
+    assert row["corrected"] and row["retrieved"] and row["handed_over"]
+    assert not (row["table_contact"] or row["person_contact"] or row["knocked"])

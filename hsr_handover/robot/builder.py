@@ -20,11 +20,12 @@ from hsr_handover.hsr import COMMANDED_JOINTS, FINGER_PER_OPENING, GRIPPER_JOINT
 from hsr_handover.robot.perception import PERCEPTION_OUTPUTS, add_perception
 from hsr_handover.scenario import Scenario, robot_start_positions
 from hsr_handover.systems.handover_supervisor import HandoverSupervisor
-from hsr_handover.systems.watching import WATCHING
+from hsr_handover.systems.watching import INTENT_WATCHING, WATCHING
 
 HANDOVER_OUTPUTS = ("cycle", "plan_view")  # the supervisor's, exported when handover is on
-WATCH_ONLY = ("point_cloud_gng", "intent_estimator")
-"""The perception systems whose work serves only the watch for a request (`systems.watching`)."""
+WATCH_ONLY = {"point_cloud_gng": WATCHING, "intent_estimator": INTENT_WATCHING}
+"""The perception systems whose work serves only the watch for a request or a correction, and
+the supervisor's output that says when (`systems.watching`)."""
 
 
 @dataclasses.dataclass
@@ -61,9 +62,9 @@ def _feed_supervisor(builder: DiagramBuilder, supervisor: HandoverSupervisor) ->
         source = builder.GetSubsystemByName(system).GetOutputPort(output)
         builder.Connect(source, supervisor.GetInputPort(port))
     # What serves only the watch rests while the robot acts.
-    for system in WATCH_ONLY:
+    for system, signal in WATCH_ONLY.items():
         watching = builder.GetSubsystemByName(system).GetInputPort(WATCHING)
-        builder.Connect(supervisor.GetOutputPort(WATCHING), watching)
+        builder.Connect(supervisor.GetOutputPort(signal), watching)
 
 
 def build_robot(scenario: Scenario) -> Robot:

@@ -9,9 +9,10 @@ Once it has seen the person's shoulders and the objects, it raises its torso if 
 would hide a pointing arm from its camera (`watch_view`), and watches from there.
 Outputs: `hsr_desired_state` ([q; v] of COMMANDED_JOINTS: the motion under way, else where it
 stands; the ready posture before any), `gripper_desired_opening`, `cycle` (the record),
-`plan_view` (PlanView: what the plans show in the replay) and `watching` (1 while the cycle
-watches for a request, and while it lifts and carries an object the person may still correct,
-else 0: the perception that serves only the watch rests, see `systems.watching`).
+`plan_view` (PlanView: what the plans show in the replay), `watching` (1 while the cycle
+watches for a request, else 0: the perception that serves only the watch rests) and
+`intent_watching` (1 also while it lifts and carries an object the person may still correct;
+see `systems.watching`).
 """
 
 from __future__ import annotations
@@ -41,7 +42,7 @@ from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY, HEAD_JOINTS
 from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.perception.facing import SteadyFacing
 from hsr_handover.planning.perceived_scene import PerceivedScene
-from hsr_handover.systems.watching import WATCHING
+from hsr_handover.systems.watching import INTENT_WATCHING, WATCHING
 
 TICK_S = 0.1  # s between the supervisor's decisions
 PAN, TILT = (COMMANDED_JOINTS.index(joint) for joint in HEAD_JOINTS)
@@ -133,10 +134,13 @@ class HandoverSupervisor(LeafSystem):
             "plan_view", lambda: AbstractValue.Make(PlanView()), self._calc_plan_view
         )
         # From the state alone: the perception it gates feeds this system's inputs.
-        self.DeclareVectorOutputPort(
-            WATCHING, 1, self._calc_watching,
-            prerequisites_of_calc={self.abstract_state_ticket(self._memory)},
-        )  # fmt: skip
+        for name, calc in (
+            (WATCHING, self._calc_watching),
+            (INTENT_WATCHING, self._calc_intent_watching),
+        ):
+            self.DeclareVectorOutputPort(
+                name, 1, calc, prerequisites_of_calc={self.abstract_state_ticket(self._memory)}
+            )  # fmt: skip
         self.DeclarePeriodicUnrestrictedUpdateEvent(TICK_S, 0.0, self._tick)
 
     def _memory_of(self, context: Context) -> _Memory:
@@ -264,6 +268,10 @@ class HandoverSupervisor(LeafSystem):
         output.SetFromVector([cycle.gripper])
 
     def _calc_watching(self, context: Context, output: BasicVector) -> None:
+        watching = self._memory_of(context).cycle.cycle.phase is Phase.WATCH
+        output.SetFromVector([1.0 if watching else 0.0])
+
+    def _calc_intent_watching(self, context: Context, output: BasicVector) -> None:
         cycle = self._memory_of(context).cycle.cycle
         correctable = cycle.phase in (Phase.LIFT, Phase.CARRY) and cycle.first_target is None
         output.SetFromVector([1.0 if cycle.phase is Phase.WATCH or correctable else 0.0])

@@ -76,6 +76,21 @@ def test_a_request_for_an_object_it_never_perceived_fails_as_unreachable(supervi
     assert system.GetOutputPort("watching").Eval(context)[0] == 0.0  # done watching
 
 
+def test_it_watches_for_a_correction_while_it_lifts_and_carries_until_one_is_heeded(supervisor):
+    system, context, _ = supervisor
+    watching = system.GetOutputPort("watching")  # the scene map's: the watch for a request
+    intent = system.GetOutputPort("intent_watching")  # the intent estimator's
+    cases = ((Phase.WATCH, None, 1.0, 1.0), (Phase.APPROACH, None, 0.0, 0.0),
+             (Phase.LIFT, None, 0.0, 1.0), (Phase.CARRY, None, 0.0, 1.0),
+             (Phase.CARRY, "red", 0.0, 0.0), (Phase.PUT_BACK, "red", 0.0, 0.0),
+             (Phase.PRESENT, None, 0.0, 0.0))  # fmt: skip
+    for phase, first, scene_map, intent_estimator in cases:
+        record = context.get_mutable_abstract_state(0).get_mutable_value().cycle.cycle
+        record.phase, record.first_target = phase, first
+        assert watching.Eval(context)[0] == scene_map, phase
+        assert intent.Eval(context)[0] == intent_estimator, phase
+
+
 def test_a_person_with_one_shoulder_hidden_is_still_in_view():
     """Presenting to a standing person at their chest, the robot's arm hides one shoulder: the
     receiving arm's frame (both shoulders) is gone, but the person is not."""

@@ -29,10 +29,13 @@ from hsr_handover.planning.inverse_kinematics import (
 from hsr_handover.planning.perceived_scene import Capsule, PerceivedScene
 from hsr_handover.planning.planner import (
     DIP_ALLOWANCE,
+    LOWER,
+    PUT_BACK,
     STAGES,
     path_clearances,
     plan_grasp,
     plan_handover,
+    plan_put_back,
     timed_clearance,
 )
 from hsr_handover.planning.planning_scene import PlanningScene
@@ -341,3 +344,30 @@ def test_a_posture_inside_the_table_plans_nothing_and_says_why(scene):
     inside = scene.positions()
     plan = planner.plan_posture(scene, q_now, inside, joint_limits(scene.plant))
     assert not plan.ok and plan.motions == () and plan.reason.startswith(planner.POSTURE)
+
+
+def test_an_object_is_put_back_the_way_it_came_and_lowered_onto_its_place(scene, arm_map):
+    """The person asked for another cup while this one was carried: from part way along the
+    carry, back along it to where the lift ended, then the lift backwards."""
+    limits = joint_limits(scene.plant)
+    grasp = plan_grasp(scene, arm_map, "red", _ready(scene), limits)
+    assert grasp.ok, grasp.reason
+    shoulder = np.array([1.75, 0.19, 1.03])
+    frame = np.column_stack([[-1.0, 0, 0], [0, -1.0, 0], [0, 0, 1.0]])
+    person = PersonEffectivity(HumanArm("r", shoulder, frame, 0.30, 0.25, 0.09))
+    handover = plan_handover(scene, arm_map, person, grasp.goal, limits, grasp.held)
+    assert handover.ok, handover.reason
+    _, carried = handover.motions[0].timed.sample(0.05)
+    came = list(carried[: len(carried) // 2])
+    plan = plan_put_back(scene, came[-1], grasp.held, grasp.goal, limits, came)
+    assert plan.ok, plan.reason
+    assert [motion.name for motion in plan.motions] == [PUT_BACK, LOWER]
+    back, lower = plan.motions
+    with scene.holding(grasp.held.label, grasp.held.q_grasp):  # the cup keeps clear on the way
+        assert timed_clearance(scene, back) >= COLLISION_BOUND - 0.012
+    _, lowering = lower.timed.sample(0.01)
+    np.testing.assert_allclose(lowering[0], grasp.goal, atol=1e-6)
+    np.testing.assert_allclose(lowering[-1], grasp.held.q_grasp, atol=1e-6)
+    # Still where the lift ended: only the lift backwards.
+    at_lift = plan_put_back(scene, grasp.goal, grasp.held, grasp.goal, limits)
+    assert at_lift.ok and [motion.name for motion in at_lift.motions] == [LOWER]
