@@ -179,7 +179,7 @@ def test_the_watch_only_perception_rests_by_the_supervisors_watching_output(hand
     scenario.handover.enabled = handover
     diagram = build_robot(scenario).diagram
     sources = _sources(diagram)
-    for name, signal in WATCH_ONLY.items():
+    for name in WATCH_ONLY:
         system = diagram.GetSubsystemByName(name)
         port = system.GetInputPort(WATCHING).get_index()
         source = sources.get((system.GetSystemPathname(), int(port)))
@@ -188,4 +188,4 @@ def test_the_watch_only_perception_rests_by_the_supervisors_watching_output(hand
             continue
         feeder, output = source
         assert feeder.get_name() == "handover_supervisor"
-        assert feeder.get_output_port(output).get_name() == signal
+        assert feeder.get_output_port(output).get_name() == WATCHING

@@ -502,7 +502,8 @@ class IntentState:
     its `confidence` and `recognised_time` (s; NaN until then); the object the person is
     asking for now (`candidate`, since `candidate_since`); the frame's judgement; and, once a
     target is recognised, another object the person asks for afterwards in a new gesture
-    (`correction`, at `correction_time`; see `IntentTracker`)."""
+    (`correction`, at `correction_time`; see `IntentTracker`); and every object seen so far as
+    (label, centre) where last seen (`objects`)."""
 
     target: str | None = None
     confidence: float = 0.0
@@ -512,6 +513,7 @@ class IntentState:
     frame: FrameJudgement = FrameJudgement(None, 0.0, NO_SKELETON)
     correction: str | None = None
     correction_time: float = math.nan
+    objects: tuple[tuple[str, np.ndarray], ...] = ()
 
     @property
     def status(self) -> str:
@@ -549,6 +551,17 @@ class IntentTracker:
         self._shoulders = SteadyFacing()
         self._correcting = _CorrectionWatch()
         self._objects: dict[str, np.ndarray] = {}  # each candidate where last seen
+
+    @classmethod
+    def correcting(cls, state: IntentState, params: IntentParams | None = None) -> IntentTracker:
+        """A tracker that takes over from one in `state` (its target recognised, its objects
+        where last seen) to watch for a correction only."""
+        tracker = cls(params)
+        tracker.state_ = IntentState(
+            state.target, state.confidence, state.recognised_time, objects=state.objects
+        )
+        tracker._objects = dict(state.objects)
+        return tracker
 
     def __deepcopy__(self, memo: dict) -> IntentTracker:
         """The params and states are frozen and the facings are replaced, never changed in
@@ -598,7 +611,7 @@ class IntentTracker:
             )
             observed = self._smoother.smooth(time, seen)
             frame = judge(observed, candidates, self.params)
-        state = self.state_
+        state = dataclasses.replace(self.state_, objects=tuple(self._objects.items()))
         if state.target is not None:
             self.state_ = self._correction(dataclasses.replace(state, frame=frame), time,
                                            observed, candidates)  # fmt: skip
@@ -607,9 +620,8 @@ class IntentTracker:
         target, recognised = None, math.nan
         if self._dwelt(candidate, since, frame, time):
             target, recognised = candidate, time
-        self.state_ = IntentState(
-            target, frame.clarity if target else 0.0, recognised, candidate, since, frame
-        )
+        self.state_ = IntentState(target, frame.clarity if target else 0.0, recognised, candidate,
+                                  since, frame, objects=state.objects)  # fmt: skip
         return self.state_
 
     def _dwelt(self, candidate: str | None, since: float, frame: FrameJudgement, time: float):

@@ -20,12 +20,11 @@ from hsr_handover.hsr import COMMANDED_JOINTS, FINGER_PER_OPENING, GRIPPER_JOINT
 from hsr_handover.robot.perception import PERCEPTION_OUTPUTS, add_perception
 from hsr_handover.scenario import Scenario, robot_start_positions
 from hsr_handover.systems.handover_supervisor import HandoverSupervisor
-from hsr_handover.systems.watching import INTENT_WATCHING, WATCHING
+from hsr_handover.systems.watching import WATCHING
 
 HANDOVER_OUTPUTS = ("cycle", "plan_view")  # the supervisor's, exported when handover is on
-WATCH_ONLY = {"point_cloud_gng": WATCHING, "intent_estimator": INTENT_WATCHING}
-"""The perception systems whose work serves only the watch for a request or a correction, and
-the supervisor's output that says when (`systems.watching`)."""
+WATCH_ONLY = ("point_cloud_gng", "intent_estimator")
+"""The perception systems whose work serves only the watch for a request (`systems.watching`)."""
 
 
 @dataclasses.dataclass
@@ -62,9 +61,9 @@ def _feed_supervisor(builder: DiagramBuilder, supervisor: HandoverSupervisor) ->
         source = builder.GetSubsystemByName(system).GetOutputPort(output)
         builder.Connect(source, supervisor.GetInputPort(port))
     # What serves only the watch rests while the robot acts.
-    for system, signal in WATCH_ONLY.items():
+    for system in WATCH_ONLY:
         watching = builder.GetSubsystemByName(system).GetInputPort(WATCHING)
-        builder.Connect(supervisor.GetOutputPort(signal), watching)
+        builder.Connect(supervisor.GetOutputPort(WATCHING), watching)
 
 
 def build_robot(scenario: Scenario) -> Robot:
@@ -77,7 +76,9 @@ def build_robot(scenario: Scenario) -> Robot:
         outputs = PERCEPTION_OUTPUTS
     if scenario.handover.enabled:
         supervisor = builder.AddNamedSystem(
-            "handover_supervisor", HandoverSupervisor(load_or_build()[0], state, opening)
+            "handover_supervisor",
+            # The intent's params were checked with the perception's.
+            HandoverSupervisor(load_or_build()[0], state, opening, scenario.intent.params()),
         )
         _feed_supervisor(builder, supervisor)
         commands = (supervisor.GetOutputPort(interface.HSR_DESIRED_STATE),

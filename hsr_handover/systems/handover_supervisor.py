@@ -9,10 +9,15 @@ Once it has seen the person's shoulders and the objects, it raises its torso if 
 would hide a pointing arm from its camera (`watch_view`), and watches from there.
 Outputs: `hsr_desired_state` ([q; v] of COMMANDED_JOINTS: the motion under way, else where it
 stands; the ready posture before any), `gripper_desired_opening`, `cycle` (the record),
-`plan_view` (PlanView: what the plans show in the replay), `watching` (1 while the cycle
-watches for a request, else 0: the perception that serves only the watch rests) and
-`intent_watching` (1 also while it lifts and carries an object the person may still correct;
-see `systems.watching`).
+`plan_view` (PlanView: what the plans show in the replay) and `watching` (1 while the cycle
+watches for a request, else 0: the perception that serves only the watch rests, see
+`systems.watching`).
+
+While the robot lifts and carries, it watches for a correction itself: an `IntentTracker`
+that takes over from the intent estimator's (`IntentTracker.correcting`) judges the frames
+the supervisor reads anyway (one in three), the objects where last seen, until the person asks
+for another object (`Percepts.correction`). The estimator, kept awake for it, had the camera
+render every frame while the robot acted.
 """
 
 from __future__ import annotations
@@ -39,10 +44,11 @@ from hsr_handover.handover.plan_view import PlanView
 from hsr_handover.handover.scene_memory import remember
 from hsr_handover.handover.watch_view import LIFT, plausible_shoulders, watch_posture
 from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY, HEAD_JOINTS
+from hsr_handover.intent import IntentParams, IntentTracker
 from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.perception.facing import SteadyFacing
 from hsr_handover.planning.perceived_scene import PerceivedScene
-from hsr_handover.systems.watching import INTENT_WATCHING, WATCHING
+from hsr_handover.systems.watching import WATCHING
 
 TICK_S = 0.1  # s between the supervisor's decisions
 PAN, TILT = (COMMANDED_JOINTS.index(joint) for joint in HEAD_JOINTS)
@@ -101,13 +107,21 @@ class _Memory:
     raised: _Raise | None = None  # None: it watches from the ready posture
     weighed: _Weighed | None = None
     view_blocked: bool = False  # a raise found no way: it watches from where it is
+    correcting: IntentTracker | None = None  # watching for a correction, once it has lifted
 
 
 class HandoverSupervisor(LeafSystem):
     """Steps the handover cycle on the robot's percepts and commands the HSR."""
 
-    def __init__(self, arm_map: ArmEffectivity, ready_state: np.ndarray, ready_opening: float):
+    def __init__(
+        self,
+        arm_map: ArmEffectivity,
+        ready_state: np.ndarray,
+        ready_opening: float,
+        intent_params: IntentParams | None = None,
+    ):
         super().__init__()
+        self._intent_params = IntentParams() if intent_params is None else intent_params
         self._planner = PerceivedPlanner(arm_map)
         self._robot = self._planner.robot
         self._rows = np.array([self._robot.index(joint) for joint in COMMANDED_JOINTS])
@@ -134,13 +148,10 @@ class HandoverSupervisor(LeafSystem):
             "plan_view", lambda: AbstractValue.Make(PlanView()), self._calc_plan_view
         )
         # From the state alone: the perception it gates feeds this system's inputs.
-        for name, calc in (
-            (WATCHING, self._calc_watching),
-            (INTENT_WATCHING, self._calc_intent_watching),
-        ):
-            self.DeclareVectorOutputPort(
-                name, 1, calc, prerequisites_of_calc={self.abstract_state_ticket(self._memory)}
-            )  # fmt: skip
+        self.DeclareVectorOutputPort(
+            WATCHING, 1, self._calc_watching,
+            prerequisites_of_calc={self.abstract_state_ticket(self._memory)},
+        )  # fmt: skip
         self.DeclarePeriodicUnrestrictedUpdateEvent(TICK_S, 0.0, self._tick)
 
     def _memory_of(self, context: Context) -> _Memory:
@@ -160,9 +171,29 @@ class HandoverSupervisor(LeafSystem):
             return
         self._planner.perceive(memory.scene, memory.arm)
         percepts = self._percepts(context, skeleton, arm, memory.cycle)
+        percepts = dataclasses.replace(
+            percepts, correction=self._correction(context, skeleton, memory)
+        )
         memory.cycle.step(percepts)
         point = memory.cycle.gaze()
         memory.head = None if point is None else look_at(self._robot, percepts.q, point)
+
+    def _correction(self, context: Context, skeleton, memory: _Memory) -> str | None:
+        """Another object the person asks for while the robot lifts or carries one (None
+        before it lifts, once it has heeded one, and while none is asked for)."""
+        cycle = memory.cycle.cycle
+        if cycle.phase not in (Phase.LIFT, Phase.CARRY) or cycle.first_target is not None:
+            return None
+        if memory.correcting is None:
+            intent = self._intent.Eval(context)
+            memory.correcting = IntentTracker.correcting(intent, self._intent_params)
+        known = {label for label, _ in memory.correcting.state_.objects}
+        seen = [(d.label, d.center) for d in self._detections.Eval(context).detections
+                if d.label in known and np.all(np.isfinite(d.center))]  # fmt: skip
+        state = memory.correcting.update(
+            context.get_time(), skeleton.points, skeleton.confidence, seen, skeleton.torso_forward
+        )
+        return state.correction
 
     def _raise_view(self, context: Context, skeleton, memory: _Memory) -> None:
         """Raise the torso if the objects would hide a pointing arm (`watch_posture`): first
@@ -212,8 +243,7 @@ class HandoverSupervisor(LeafSystem):
     ) -> Percepts:
         q = self._measured(context)
         opening = float(self._opening.Eval(context)[0])
-        intent = self._intent.Eval(context)
-        target = intent.target
+        target = self._intent.Eval(context).target
         wanted = cycle.cycle.target or target  # what it is fetching, once it has begun
         seen = None
         for detection in self._detections.Eval(context).detections:
@@ -230,8 +260,7 @@ class HandoverSupervisor(LeafSystem):
         )
         wrist_force = palm_pose.rotation() @ self._wrench.Eval(context)[3:]
         return Percepts(context.get_time(), q, opening, target, seen, _wrist(skeleton), palm,
-                        person, float(pull), wrist_force, _face(skeleton),
-                        intent.correction)  # fmt: skip
+                        person, float(pull), wrist_force, _face(skeleton))  # fmt: skip
 
     def _calc_state(self, context: Context, output: BasicVector) -> None:
         time = context.get_time()
@@ -270,11 +299,6 @@ class HandoverSupervisor(LeafSystem):
     def _calc_watching(self, context: Context, output: BasicVector) -> None:
         watching = self._memory_of(context).cycle.cycle.phase is Phase.WATCH
         output.SetFromVector([1.0 if watching else 0.0])
-
-    def _calc_intent_watching(self, context: Context, output: BasicVector) -> None:
-        cycle = self._memory_of(context).cycle.cycle
-        correctable = cycle.phase in (Phase.LIFT, Phase.CARRY) and cycle.first_target is None
-        output.SetFromVector([1.0 if cycle.phase is Phase.WATCH or correctable else 0.0])
 
     def _calc_cycle(self, context: Context, output: AbstractValue) -> None:
         memory = self._memory_of(context)

@@ -76,19 +76,27 @@ def test_a_request_for_an_object_it_never_perceived_fails_as_unreachable(supervi
     assert system.GetOutputPort("watching").Eval(context)[0] == 0.0  # done watching
 
 
-def test_it_watches_for_a_correction_while_it_lifts_and_carries_until_one_is_heeded(supervisor):
+def test_while_it_lifts_it_watches_for_a_correction_itself_on_its_own_frames(supervisor):
+    """The intent estimator rests once the robot acts; lifting, the supervisor takes over its
+    objects and reads a new gesture at another one, from its own skeleton input."""
     system, context, _ = supervisor
-    watching = system.GetOutputPort("watching")  # the scene map's: the watch for a request
-    intent = system.GetOutputPort("intent_watching")  # the intent estimator's
-    cases = ((Phase.WATCH, None, 1.0, 1.0), (Phase.APPROACH, None, 0.0, 0.0),
-             (Phase.LIFT, None, 0.0, 1.0), (Phase.CARRY, None, 0.0, 1.0),
-             (Phase.CARRY, "red", 0.0, 0.0), (Phase.PUT_BACK, "red", 0.0, 0.0),
-             (Phase.PRESENT, None, 0.0, 0.0))  # fmt: skip
-    for phase, first, scene_map, intent_estimator in cases:
-        record = context.get_mutable_abstract_state(0).get_mutable_value().cycle.cycle
-        record.phase, record.first_target = phase, first
-        assert watching.Eval(context)[0] == scene_map, phase
-        assert intent.Eval(context)[0] == intent_estimator, phase
+    cups = {"green": np.array([0.80, 0.0, 0.77]), "blue": np.array([0.80, 0.22, 0.77])}
+    recognised = IntentState("green", 1.0, 3.0, objects=tuple(cups.items()))
+    system.GetInputPort("intent").FixValue(context, recognised)
+    memory = context.get_mutable_abstract_state(0).get_mutable_value()
+    memory.cycle.cycle.phase, memory.cycle.cycle.target = Phase.LIFT, "green"
+    resting, confidence = keypoints(look_at=cups["green"])
+    blue, _ = keypoints(look_at=cups["blue"], point_with="right", point_at=cups["blue"])
+    corrections = []
+    for step in range(40):  # 4 s of its ticks: 1.5 s resting, then pointing at the blue cup
+        points = resting if step < 15 else blue
+        skeleton = Skeleton(np.zeros((18, 2)), points, confidence)
+        system.GetInputPort("skeleton").FixValue(context, skeleton)
+        context.SetTime(LOOK_ROUND_S + 0.1 * step)
+        memory = context.get_mutable_abstract_state(0).get_mutable_value()
+        corrections.append(system._correction(context, skeleton, memory))
+    assert corrections[:15] == [None] * 15 and corrections[-1] == "blue"
+    assert system.GetOutputPort("watching").Eval(context)[0] == 0.0  # the estimator rests
 
 
 def test_a_person_with_one_shoulder_hidden_is_still_in_view():
