@@ -219,6 +219,10 @@ class CyclePlanner(Protocol):
         the way it `came` from there (configurations, possibly none), then down to where it
         was grasped."""
 
+    def back_off(self, q: np.ndarray, let_go: object) -> PlannedMotions:
+        """The hand straight back from the object just let go of (no motion when it is clear
+        of it already)."""
+
 
 @dataclasses.dataclass
 class _Running:
@@ -283,7 +287,7 @@ class HandoverCycle:
         self._turned: float | None = None  # when it turned to the person, the object lifted
         self._blocked: float | None = None  # when the plan now wanted first found no way
         self._retry_at = -math.inf  # when to try that plan again
-        self._putting = ""  # putting back: "plan", "lower", "open"; "" otherwise
+        self._putting = ""  # putting back: "plan", "lower", "open", "leave"; "" otherwise
         self._came: list[np.ndarray] = []  # the way it carried the object it puts back
         self._next_target: str | None = None  # to fetch once the object lifted is back
         self.view = PlanView()  # what the plans so far show in the replay
@@ -445,16 +449,31 @@ class HandoverCycle:
                 self._queue, self._putting = list(planned.motions), "lower"
         elif self._putting == "lower":
             self._gripper, self._putting, self._since = OPEN, "open", p.time
-        elif p.time - self._since >= SETTLE_S:
-            self._fetch_next(p)
+        elif self._putting == "open" and p.time - self._since >= SETTLE_S:
+            self._leave(p)
+        elif self._putting == "leave":
+            self._fetch_next(p, p.time)
 
-    def _fetch_next(self, p: Percepts) -> None:
-        """The object is back where it stood and let go of: retreat from it, then watch
-        again, asked for the next object (`_watch` plans its grasp)."""
+    def _leave(self, p: Percepts) -> None:
+        """The object is back where it stood and let go of: the hand backs straight off it
+        (stowing the arm first took the corrected trials past the time limit), or, with no
+        way straight back, the robot retreats; then it fetches the next object."""
+        planned = self._planner.back_off(p.q, self._held)
+        self.cycle.planning_s += planned.seconds
+        if planned.ok:
+            self._queue, self._putting = list(planned.motions), "leave"
+            return
         self._retreat_then(p, Phase.WATCH, None, "", holding=False)
+        self._fetch_next(p)
+
+    def _fetch_next(self, p: Percepts, watch_from: float | None = None) -> None:
+        """Asked for the next object: watch (`_watch` plans its grasp), at once from
+        `watch_from` (s), else once the retreat under way is over."""
         self.cycle.target, self._next_target, self._putting = self._next_target, None, ""
         self._held, self._lift_motion, self._turned = None, None, None
         self._held_width, self._object_start = math.inf, None
+        if watch_from is not None:
+            self._enter(Phase.WATCH, watch_from)
 
     def _start_presenting(self, p: Percepts) -> None:
         self._enter(Phase.PRESENT, p.time)

@@ -25,6 +25,7 @@ from hsr_handover.planning.planner import (
     Held,
     Plan,
     holding,
+    plan_back_off,
     plan_grasp,
     plan_handover,
     plan_posture,
@@ -189,6 +190,11 @@ class PerceivedPlanner:
         started = time.perf_counter()
         plan = plan_put_back(self._planning(), q, held, lifted, self.limits, came)
         return self._motions(plan, started)
+
+    def back_off(self, q: np.ndarray, let_go: Held) -> PlannedMotions:
+        """The palm straight back from the object just let go of (`plan_back_off`)."""
+        started = time.perf_counter()
+        return self._motions(plan_back_off(self._planning(), q, self.limits, let_go.label), started)
 
     def posture(self, q: np.ndarray, goal: np.ndarray) -> PlannedMotions:
         """From `q` to the posture `goal` (plant positions), holding nothing."""

@@ -288,6 +288,24 @@ def _way_back(scene, q_now, q_to, came, ignore, limits, seconds) -> Plan:
     return _plan_legs(scene, PUT_BACK, (leg,), limits, seconds, 0)
 
 
+def plan_back_off(
+    scene: PlanningScene, q_now: np.ndarray, limits: JointLimits, released: str
+) -> Plan:
+    """The palm BACK_OFF_M straight back from the object `released` (just let go of, still
+    between the fingers), the rest of the robot where it is: where the next grasp is planned
+    from after an object is put back, sooner than from the arm stowed. No motion when the hand
+    is clear of it already; not ok when there is no such configuration clear of the rest."""
+    seconds = dict.fromkeys(STAGES, 0.0)
+    distance = scene.clearances_at(q_now).get(released, math.inf)
+    if distance >= COLLISION_BOUND:
+        return Plan(True, "ok", BACK_OFF, (), seconds, 0, q_now)
+    q_back = _backed_off(scene, q_now, (released,))
+    if q_back is None:
+        return Plan(False, "no way back from the object let go of", BACK_OFF, seconds=seconds)
+    return _plan_legs(scene, BACK_OFF, (Leg(BACK_OFF, (released,), q_now, q_back),), limits,
+                      seconds, 0)  # fmt: skip
+
+
 def plan_posture(
     scene: PlanningScene, q_now: np.ndarray, q_goal: np.ndarray, limits: JointLimits
 ) -> Plan:

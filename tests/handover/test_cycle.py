@@ -56,6 +56,7 @@ class Planner:
 
     grasp_ok: bool = True
     grasp_failures: int = 0  # grasps that find no way before one does
+    back_off_ok: bool = True
     asked: list = dataclasses.field(default_factory=list)
 
     def grasp(self, label, q):
@@ -77,6 +78,12 @@ class Planner:
     def retreat(self, q, held, let_go=None):
         self.asked.append(("retreat", held, let_go))
         return PlannedMotions(True, "ok", (("retreat", Line(q, np.zeros_like(q))),), 0.1)
+
+    def back_off(self, q, let_go):
+        self.asked.append(("back off", let_go))
+        if not self.back_off_ok:
+            return PlannedMotions(False, "no way back from the object let go of", seconds=0.05)
+        return PlannedMotions(True, "ok", (("back off", Line(q, q - 0.5, 0.5)),), 0.05)
 
     def put_back(self, q, held, lifted, came):
         self.asked.append(("put back", held, tuple(lifted), len(came)))
@@ -599,8 +606,9 @@ def test_a_correction_while_carrying_puts_the_object_back_and_fetches_the_one_as
     assert np.allclose(world.q, lifted - 1) and world.cycle.command(world.time)[2] == OPEN
     assert world.cycle.cycle.phase is Phase.PUT_BACK  # the fingers open before it leaves
     world.opening = 0.1
-    world.until(Phase.RETREAT)
-    assert world.planner.asked[-1] == ("retreat", None, "the grasp")  # away from what it let go
+    world.until(Phase.WATCH)
+    assert world.planner.asked[-1] == ("back off", "the grasp")  # off what it let go of
+    assert np.allclose(world.q, lifted - 1.5)  # and then it plans from there
     assert world.cycle.cycle.target == "red"
     world.seen = OBJECT + [0.0, 0.2, 0.0]  # the red one, where it stands
     world.until(Phase.APPROACH)  # the estimator's first target stays: it fetches the new one
@@ -648,3 +656,16 @@ def test_a_put_back_that_drops_the_object_fails_as_dropped():
     world.opening = 0.0  # the fingers close on nothing on the way back
     record = world.until(Phase.RETREAT)
     assert record.failure is Failure.DROPPED
+
+
+def test_with_no_way_straight_off_the_object_put_back_it_retreats_then_fetches_the_other():
+    world = _carrying()
+    world.planner.back_off_ok = False
+    world.correction = "red"
+    world.until(Phase.PUT_BACK)
+    world.opening = 0.1
+    world.until(Phase.RETREAT)
+    assert world.planner.asked[-1] == ("retreat", None, "the grasp")
+    world.seen = OBJECT + [0.0, 0.2, 0.0]
+    world.until(Phase.APPROACH)
+    assert world.planner.asked[-1] == ("grasp", "red") and world.cycle.cycle.failure is None

@@ -12,7 +12,7 @@ from hsr_handover.effectivity.person_map import receiving_arm
 from hsr_handover.handover.cycle import PATIENCE_S, Failure, Phase
 from hsr_handover.handover.look_round import LOOK_AROUND_PANS, LOOK_DWELL_S, LOOK_ROUND_S
 from hsr_handover.hsr import COMMANDED_JOINTS
-from hsr_handover.intent import IntentState
+from hsr_handover.intent import IntentParams, IntentState
 from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.perception.object_detection import DetectionResult
 from hsr_handover.perception.object_shapes import BOX, ObjectShape
@@ -24,7 +24,7 @@ from hsr_handover.systems.handover_supervisor import (
     _face,
     _person_point,
 )
-from tests.intent.synthetic_person import keypoints
+from tests.intent.synthetic_person import TRUE_FACE_TILT, keypoints
 
 PAN = COMMANDED_JOINTS.index("head_pan_joint")
 OPENING = 0.02
@@ -32,9 +32,13 @@ OPENING = 0.02
 
 @pytest.fixture
 def supervisor():
+    return _supervisor()
+
+
+def _supervisor(params: IntentParams | None = None):
     ready = np.zeros(2 * len(COMMANDED_JOINTS))
     ready[COMMANDED_JOINTS.index("wrist_flex_joint")] = -1.57
-    system = HandoverSupervisor(load_or_build()[0], ready, OPENING)
+    system = HandoverSupervisor(load_or_build()[0], ready, OPENING, params)
     context = system.CreateDefaultContext()
     system.GetInputPort("hsr_state_measured").FixValue(context, ready)
     system.GetInputPort("gripper_opening_measured").FixValue(context, [OPENING])
@@ -76,10 +80,11 @@ def test_a_request_for_an_object_it_never_perceived_fails_as_unreachable(supervi
     assert system.GetOutputPort("watching").Eval(context)[0] == 0.0  # done watching
 
 
-def test_while_it_lifts_it_watches_for_a_correction_itself_on_its_own_frames(supervisor):
+def test_while_it_lifts_it_watches_for_a_correction_itself_on_its_own_frames():
     """The intent estimator rests once the robot acts; lifting, the supervisor takes over its
-    objects and reads a new gesture at another one, from its own skeleton input."""
-    system, context, _ = supervisor
+    objects and reads a new gesture at another one, from its own skeleton input (with the
+    estimator's params: here the synthetic face's tilt)."""
+    system, context, _ = _supervisor(IntentParams(face_tilt_deg=TRUE_FACE_TILT))
     cups = {"green": np.array([0.80, 0.0, 0.77]), "blue": np.array([0.80, 0.22, 0.77])}
     recognised = IntentState("green", 1.0, 3.0, objects=tuple(cups.items()))
     system.GetInputPort("intent").FixValue(context, recognised)

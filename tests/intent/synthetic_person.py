@@ -16,6 +16,10 @@ from hsr_handover.perception.coco18 import COCO18_KEYPOINTS
 BODY = BodyDimensions.from_height(1.70, seated=True)
 PERSON_AT, PERSON_YAW = np.array([1.75, 0.0, 0.0]), math.pi  # facing the robot (-x)
 # Three cups 22 cm apart on a 0.72 m table, as in the point_* scenarios.
+TRUE_FACE_TILT = 23.0
+"""deg: the face tilt of these true keypoints (`IntentParams.face_tilt_deg` is the lifted
+skeleton's 30): a correction's check of the eyes' pitch needs it, as the eyes read 10 degrees
+low at 30."""
 CUPS = [("red", np.array([0.80, -0.22, 0.77])), ("green", np.array([0.80, 0.0, 0.77])),
         ("blue", np.array([0.80, 0.22, 0.77]))]  # fmt: skip
 

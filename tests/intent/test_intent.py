@@ -39,7 +39,7 @@ from hsr_handover.intent.tracker import (
     torso_forward,
 )
 from hsr_handover.perception.coco18 import keypoint_index
-from tests.intent.synthetic_person import BODY, CUPS, keypoints, to_person
+from tests.intent.synthetic_person import BODY, CUPS, TRUE_FACE_TILT, keypoints, to_person
 
 
 def _without(confidence: np.ndarray, *names: str) -> np.ndarray:
@@ -489,7 +489,7 @@ def _recognised_green(params: IntentParams) -> tuple[IntentTracker, float]:
 
 
 def test_after_the_target_a_new_gesture_at_another_object_is_a_correction():
-    params = IntentParams(t_max=0.5)
+    params = IntentParams(t_max=0.5, face_tilt_deg=TRUE_FACE_TILT)
     tracker, time = _recognised_green(params)
     resting, confidence = keypoints(look_at=CUPS[1][1])
     states, time = _run(tracker, time, params.smoothing_s + 0.5, resting, confidence)
@@ -503,7 +503,7 @@ def test_after_the_target_a_new_gesture_at_another_object_is_a_correction():
 
 
 def test_no_correction_without_the_arm_lowered_for_the_smoothing_window_first():
-    params = IntentParams(t_max=0.5)
+    params = IntentParams(t_max=0.5, face_tilt_deg=TRUE_FACE_TILT)
     tracker, time = _recognised_green(params)
     blue, confidence = keypoints(look_at=CUPS[2][1], point_with="right", point_at=CUPS[2][1])
     states, time = _run(tracker, time, 2.0, blue, confidence)  # swung on without a rest
@@ -517,7 +517,7 @@ def test_no_correction_without_the_arm_lowered_for_the_smoothing_window_first():
 
 def test_a_correction_judges_the_objects_where_they_were_last_seen():
     """Carrying one object, the robot looks at the person: the others go out of its view."""
-    params = IntentParams(t_max=0.5)
+    params = IntentParams(t_max=0.5, face_tilt_deg=TRUE_FACE_TILT)
     tracker, time = _recognised_green(params)
     resting, confidence = keypoints(look_at=CUPS[1][1])
     _, time = _run(tracker, time, params.smoothing_s + 0.5, resting, confidence, candidates=[])
@@ -533,7 +533,9 @@ def test_a_correction_reads_the_gaze_with_its_own_tolerance():
     blue = CUPS[2][1]
 
     def corrected(tolerance: float) -> str | None:
-        params = IntentParams(t_max=0.5, correction_gaze_tolerance_deg=tolerance)
+        params = IntentParams(
+            t_max=0.5, correction_gaze_tolerance_deg=tolerance, face_tilt_deg=TRUE_FACE_TILT
+        )
         tracker, time = _recognised_green(params)
         resting, confidence = keypoints(look_at=CUPS[1][1])
         _, time = _run(tracker, time, params.smoothing_s + 0.5, resting, confidence)
@@ -543,3 +545,21 @@ def test_a_correction_reads_the_gaze_with_its_own_tolerance():
 
     assert corrected(IntentParams().correction_gaze_tolerance_deg) == "blue"
     assert corrected(IntentParams().gaze_tolerance_deg / 4) is None
+
+
+def test_a_correction_is_not_read_from_eyes_on_a_point_below_the_object():
+    """A hand held out to receive is a straight arm toward the table, the eyes on the hand:
+    below the object its ray passes near."""
+    params = IntentParams(t_max=0.5, face_tilt_deg=TRUE_FACE_TILT)
+    blue = CUPS[2][1]
+
+    def corrected(look: np.ndarray) -> str | None:
+        tracker, time = _recognised_green(params)
+        resting, confidence = keypoints(look_at=look)  # the eyes there from the start
+        _, time = _run(tracker, time, params.smoothing_s + 0.5, resting, confidence)
+        points, confidence = keypoints(look_at=look, point_with="right", point_at=blue)
+        states, _ = _run(tracker, time, 2.0, points, confidence)
+        return states[-1].correction
+
+    assert corrected(blue) == "blue"
+    assert corrected(blue + [0.35, 0.0, -0.1]) is None  # nearer the person and lower: at the hand

@@ -28,11 +28,13 @@ from hsr_handover.planning.inverse_kinematics import (
 )
 from hsr_handover.planning.perceived_scene import Capsule, PerceivedScene
 from hsr_handover.planning.planner import (
+    BACK_OFF,
     DIP_ALLOWANCE,
     LOWER,
     PUT_BACK,
     STAGES,
     path_clearances,
+    plan_back_off,
     plan_grasp,
     plan_handover,
     plan_put_back,
@@ -371,3 +373,9 @@ def test_an_object_is_put_back_the_way_it_came_and_lowered_onto_its_place(scene,
     # Still where the lift ended: only the lift backwards.
     at_lift = plan_put_back(scene, grasp.goal, grasp.held, grasp.goal, limits)
     assert at_lift.ok and [motion.name for motion in at_lift.motions] == [LOWER]
+    # Let go of, the hand backs straight off it, to plan the next grasp from there.
+    off = plan_back_off(scene, grasp.held.q_grasp, limits, "red")
+    assert off.ok and [motion.name for motion in off.motions] == [BACK_OFF], off.reason
+    assert scene.clearances_at(off.goal)["red"] >= COLLISION_BOUND
+    clear = plan_back_off(scene, off.goal, limits, "red")
+    assert clear.ok and clear.motions == ()
