@@ -219,6 +219,9 @@ def test_results_are_written_as_csv_json_text_and_a_figure(base, box_trial, refu
     assert "86.6 %" in text and "90.0 %" in text and "table contact 1" in text
     assert "watched from a raised torso in 1 trials" in text
     assert "0.42" in lines[2]  # the trial's arm lift, in its row
+    first = header.index("first_recognised")
+    assert cells[0][first] == "yellow_box" and cells[0][header.index("corrected")] == "False"
+    assert "the person corrected the robot in 0" in text
 
 
 @pytest.mark.parametrize(

@@ -18,7 +18,8 @@ from hsr_handover.experiments.reporting import (  # noqa: E402
 )
 
 CSV_COLUMNS = (
-    "index", "target", "arm", "takes", "reaction_s", "held_out", "recognised", "retrieved",
+    "index", "target", "arm", "takes", "reaction_s", "held_out", "recognised", "first_recognised",
+    "corrected", "corrected_s", "retrieved",
     "handed_over", "graceful", "failure", "outcome", "robot_failure", "reason", "person_holds",
     "table_contact", "person_contact", "knocked", "person_knocked", "table_contact_s",
     "person_contact_s", "dropped_s", "gripped_s", "released_s", "clearance_table_m",
