@@ -433,7 +433,7 @@ class HandoverCycle:
         return [running.motion.state(t)[0] for t in np.linspace(0.0, elapsed, samples)]
 
     def _put_back(self, p: Percepts) -> None:
-        """Back over the object's place and down (`planner.put_back`), open, then retreat and
+        """Back over the object's place and down (`planner.put_back`), open, back off it and
         fetch the object the person asked for."""
         holding = self._putting in ("plan", "lower")
         if (holding and self._dropped(p)) or self._moving(p.time):
@@ -452,21 +452,21 @@ class HandoverCycle:
         elif self._putting == "open" and p.time - self._since >= SETTLE_S:
             self._leave(p)
         elif self._putting == "leave":
-            self._fetch_next(p, p.time)
+            self._fetch_next(p.time)
 
     def _leave(self, p: Percepts) -> None:
         """The object is back where it stood and let go of: the hand backs straight off it
-        (stowing the arm first took the corrected trials past the time limit), or, with no
-        way straight back, the robot retreats; then it fetches the next object."""
+        (the next grasp is planned from there, not from the arm stowed), or, with no way
+        straight back, the robot retreats; then it fetches the next object."""
         planned = self._planner.back_off(p.q, self._held)
         self.cycle.planning_s += planned.seconds
         if planned.ok:
             self._queue, self._putting = list(planned.motions), "leave"
             return
         self._retreat_then(p, Phase.WATCH, None, "", holding=False)
-        self._fetch_next(p)
+        self._fetch_next()
 
-    def _fetch_next(self, p: Percepts, watch_from: float | None = None) -> None:
+    def _fetch_next(self, watch_from: float | None = None) -> None:
         """Asked for the next object: watch (`_watch` plans its grasp), at once from
         `watch_from` (s), else once the retreat under way is over."""
         self.cycle.target, self._next_target, self._putting = self._next_target, None, ""

@@ -293,7 +293,7 @@ def plan_back_off(
 ) -> Plan:
     """The palm BACK_OFF_M straight back from the object `released` (just let go of, still
     between the fingers), the rest of the robot where it is: where the next grasp is planned
-    from after an object is put back, sooner than from the arm stowed. No motion when the hand
+    from after an object is put back, rather than from the arm stowed. No motion when the hand
     is clear of it already; not ok when there is no such configuration clear of the rest."""
     seconds = dict.fromkeys(STAGES, 0.0)
     distance = scene.clearances_at(q_now).get(released, math.inf)
