@@ -170,10 +170,7 @@ class HandoverSupervisor(LeafSystem):
         if context.get_time() < LOOK_ROUND_S:  # it looks round before it acts
             return
         self._planner.perceive(memory.scene, memory.arm)
-        percepts = self._percepts(context, skeleton, arm, memory.cycle)
-        percepts = dataclasses.replace(
-            percepts, correction=self._correction(context, skeleton, memory)
-        )
+        percepts = self._percepts(context, skeleton, arm, memory)
         memory.cycle.step(percepts)
         point = memory.cycle.gaze()
         memory.head = None if point is None else look_at(self._robot, percepts.q, point)
@@ -239,12 +236,12 @@ class HandoverSupervisor(LeafSystem):
         return self._robot.positions()
 
     def _percepts(
-        self, context: Context, skeleton, arm: HumanArm | None, cycle: HandoverCycle
+        self, context: Context, skeleton, arm: HumanArm | None, memory: _Memory
     ) -> Percepts:
         q = self._measured(context)
         opening = float(self._opening.Eval(context)[0])
         target = self._intent.Eval(context).target
-        wanted = cycle.cycle.target or target  # what it is fetching, once it has begun
+        wanted = memory.cycle.cycle.target or target  # what it is fetching, once it has begun
         seen = None
         for detection in self._detections.Eval(context).detections:
             if detection.label == wanted and np.all(np.isfinite(detection.center)):
@@ -252,7 +249,7 @@ class HandoverSupervisor(LeafSystem):
         person = _person_point(skeleton, arm)
         palm_pose = self._planner.palm_pose(q)
         palm = pads_centre(palm_pose)
-        commanded, _, _ = cycle.command(context.get_time())
+        commanded, _, _ = memory.cycle.command(context.get_time())
         pull = (
             0.0
             if commanded is None
@@ -260,7 +257,8 @@ class HandoverSupervisor(LeafSystem):
         )
         wrist_force = palm_pose.rotation() @ self._wrench.Eval(context)[3:]
         return Percepts(context.get_time(), q, opening, target, seen, _wrist(skeleton), palm,
-                        person, float(pull), wrist_force, _face(skeleton))  # fmt: skip
+                        person, float(pull), wrist_force, _face(skeleton),
+                        self._correction(context, skeleton, memory))  # fmt: skip
 
     def _calc_state(self, context: Context, output: BasicVector) -> None:
         time = context.get_time()
