@@ -15,3 +15,7 @@ BREUER_TARGETS_FOUND = 0.866
 2010)."""
 STIEFELHAGEN_HEAD_FRACTION = 0.689
 """The head's share of a gaze shift; the eyes make the rest (Stiefelhagen and Zhu 2002)."""
+HEAD_FRACTION_SD = 0.08
+"""How much the head's share of a gaze shift varies between people (sd). Not a measurement:
+Stiefelhagen and Zhu report the share over their subjects; the simulated people are drawn with
+this spread, and the robot's recogniser allows for twice it."""

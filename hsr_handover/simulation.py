@@ -160,6 +160,7 @@ class RunReport:
     cycle: Cycle | None = None  # the robot's handover cycle as it ended (handover runs)
     intent: IntentState | None = None  # what the robot recognised (runs with perception)
     person_holds: str = ""  # what the person's hand holds at the end (truth, for the report)
+    person_repeated: float = math.nan  # when the person asked again for want of a response (s)
 
     @property
     def real_time_factor(self) -> float:
@@ -235,7 +236,7 @@ def run_scenario(
     written = write_replay(meshcat, replay) if meshcat is not None else None
     root = simulator.get_context()
     return RunReport(now, wall, written, simulation, root, _cycle(simulation, root),
-                     _intent(simulation, root), _person_holds(simulation, root))  # fmt: skip
+                     _intent(simulation, root), *_person(simulation, root))  # fmt: skip
 
 
 def _cycle(simulation: Simulation, root: Context) -> Cycle | None:
@@ -260,6 +261,8 @@ def _cycle_ended(simulation: Simulation, root: Context, after_s: float) -> bool:
     return root.get_time() >= cycle.phase_times[cycle.phase.value] + after_s
 
 
-def _person_holds(simulation: Simulation, root: Context) -> str:
+def _person(simulation: Simulation, root: Context) -> tuple[str, float]:
+    """What the person holds at the end, and when they asked again for want of a response."""
     actor = simulation.station.diagram.GetSubsystemByName("human_actor")
-    return actor.GetOutputPort("grip").Eval(actor.GetMyContextFromRoot(root))
+    context = actor.GetMyContextFromRoot(root)
+    return actor.GetOutputPort("grip").Eval(context), actor.repeated_at(context)

@@ -12,7 +12,12 @@ from hsr_handover.human.body import BodyDimensions
 from hsr_handover.human.correcting import Corrector
 from hsr_handover.human.receiving import RAISED, STILL_S, Receiver, Receiving, ReceivingParams
 from hsr_handover.scenario import load_scenario
-from hsr_handover.station.world import correction_actions, person_actions, wanted_object
+from hsr_handover.station.world import (
+    CORRECTION_STREAM,
+    person_actions,
+    request_again,
+    wanted_object,
+)
 from tests.conftest import SCENARIOS
 
 BODY = BodyDimensions.from_height(1.7, seated=True)
@@ -59,7 +64,7 @@ def test_the_request_made_again_is_the_scripts_last_with_an_arm_of_its_own():
     script = person_actions(scenario, BODY)
     point = next(action for action in script if action.kind == "point_at")
     look = next(action for action in script if action.kind == "look_at")
-    again = correction_actions(scenario, BODY)
+    again = request_again(scenario, BODY, CORRECTION_STREAM)
     assert [action.kind for action in again] == ["look_at", "point_at"]
     assert again[0].start == 0.0 and again[1].start == pytest.approx(point.start - look.start)
     assert again[1].end - again[1].start == pytest.approx(point.end - point.start)
@@ -74,12 +79,12 @@ def test_nothing_asked_means_nothing_to_ask_again():
     scenario = load_scenario(SCENARIOS / "point_left.yaml")
     scenario.person.behavior = [item for item in scenario.person.behavior
                                 if item.action != "point_at"]  # fmt: skip
-    assert correction_actions(scenario, BODY) == [] and wanted_object(scenario) == ""
+    assert request_again(scenario, BODY, CORRECTION_STREAM) == [] and wanted_object(scenario) == ""
 
 
 def test_the_request_made_again_moves_like_the_first():
     scenario = load_scenario(SCENARIOS / "point_left.yaml")
-    again = correction_actions(scenario, BODY)
+    again = request_again(scenario, BODY, CORRECTION_STREAM)
     changes = posture_changes(BODY, again, scenario.table.height)
     times = [time for time, _ in changes]
     assert times == sorted(times) and times[0] == 0.0

@@ -171,7 +171,7 @@ def test_a_refusal_is_graceful_only_when_the_robot_gives_up_holding_the_object(r
 def _experiment(base, box_trial, refusal):
     good = judge(box_trial, _cycle(), _score(), "yellow_box", NAMES)
     raised = dataclasses.replace(_cycle(), watch_lift=0.42)  # watched from a raised torso
-    late = judge(box_trial, raised, _score(person_contact=30.0), "yellow_box", NAMES)
+    late = judge(box_trial, raised, _score(person_contact=30.0), "yellow_box", NAMES, 12.5)
     table = judge(box_trial, _cycle(), _score(table_contact=12.0), "", NAMES)
     label = {"red_cup": "red", "yellow_box": "yellow", "blue_cup": "blue"}[refusal.target]
     gave_up = _cycle(label, ("approach", "present", "retreat"), Failure.TIMEOUT)
@@ -200,6 +200,7 @@ def test_the_summary_counts_every_trial_crashed_ones_too(base, box_trial, refusa
     assert summary["crashed"] == [{"index": box_trial.index, "error": "RuntimeError: boom"}]
     assert summary["watched_raised"] == 1
     assert summary["first_choice_rate"] == pytest.approx(3 / 4) and summary["corrected"] == 0
+    assert summary["repeated"] == 1  # the late trial's person asked again
 
 
 def test_results_are_written_as_csv_json_text_and_a_figure(base, box_trial, refusal, tmp_path):
@@ -222,6 +223,10 @@ def test_results_are_written_as_csv_json_text_and_a_figure(base, box_trial, refu
     first = header.index("first_recognised")
     assert cells[0][first] == "yellow_box" and cells[0][header.index("corrected")] == "False"
     assert "the person corrected the robot in 0" in text
+    assert "asked again for want of a response in 1" in text
+    repeated_s = float(cells[1][header.index("repeated_s")])
+    assert cells[1][header.index("repeated")] == "True"
+    assert repeated_s == pytest.approx(12.5 - box_trial.pointing_onset, abs=1e-3)
 
 
 @pytest.mark.parametrize(

@@ -11,6 +11,7 @@ from hsr_handover.human.behavior import Action, PostureTimeline, posture_changes
 from hsr_handover.human.body import PERSON_JOINTS, BodyDimensions
 from hsr_handover.human.correcting import Corrector
 from hsr_handover.human.receiving import Receiver, ReceivingParams
+from hsr_handover.human.repeating import Repeater
 from hsr_handover.systems.human_actor import HumanActor, WorldBodies
 
 BODY = BodyDimensions.from_height(1.80, seated=False)
@@ -89,3 +90,45 @@ def test_the_person_asks_again_when_the_robot_lifts_another_object():
     np.testing.assert_allclose(output.Eval(context)[: len(PERSON_JOINTS)], pointing, atol=1e-6)
     state = context.get_abstract_state(0).get_value()
     assert state.corrector.corrected_at == pytest.approx(0.55, abs=0.051)
+
+
+@pytest.mark.parametrize("moves", [False, True])
+def test_the_person_asks_again_when_the_robots_hand_stays_still(moves: bool):
+    """On its own context, the plant's body poses fixed: the robot's hand (body 3) stays where
+    it is, and after the request's end and the wait the actor's output goes over to the
+    request made again; with the hand set off in the meantime, it does not."""
+    pointing = _timeline().evaluate(3.0)[0]
+    capsule = ((3, np.zeros(3), np.array([0.0, 0.0, 0.05]), 0.01),)
+    world = WorldBodies(hand=0, hand_middle=0.09, objects={"red": 1, "blue": 2},
+                        X_WP=RigidTransform(), gripper=capsule)  # fmt: skip
+    still = PostureTimeline([(0.0, np.zeros(len(PERSON_JOINTS)))])
+    repeater = Repeater([(0.0, pointing)], ended=1.0, wait_s=2.0)
+    receiver = Receiver(BODY, ReceivingParams(), wanted="blue")
+    actor = HumanActor(still, PERSON_JOINTS, receiver, world, repeater=repeater)
+    context = actor.CreateDefaultContext()
+    poses = actor.GetInputPort("body_poses")
+
+    def place(hand_x: float) -> None:
+        poses.FixValue(context, [RigidTransform(), RigidTransform([0.8, -0.2, 0.75]),
+                                 RigidTransform([0.8, 0.2, 0.75]),
+                                 RigidTransform([hand_x, 0.0, 0.7])])  # fmt: skip
+
+    place(0.3)
+    simulator = Simulator(actor, context)
+    simulator.AdvanceTo(2.0)
+    if moves:
+        place(0.5)
+    simulator.AdvanceTo(5.0)
+    output = actor.GetOutputPort("person_desired_state").Eval(context)[: len(PERSON_JOINTS)]
+    expected = np.zeros(len(PERSON_JOINTS)) if moves else pointing
+    np.testing.assert_allclose(output, expected, atol=1e-6)
+    state = context.get_abstract_state(0).get_value()
+    assert (state.repeater.repeated_at is None) is moves
+    assert state.repeater.answered is moves
+
+
+def test_a_repeater_without_the_robots_gripper_is_rejected():
+    world = WorldBodies(hand=0, hand_middle=0.09, objects={}, X_WP=RigidTransform())
+    receiver = Receiver(BODY, ReceivingParams())
+    with pytest.raises(ValueError, match="repeater"):
+        HumanActor(_timeline(), PERSON_JOINTS, receiver, world, repeater=Repeater([], 1.0, 2.0))

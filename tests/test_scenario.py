@@ -245,6 +245,11 @@ BROKEN = {
         "objects[0].color",
         "(100000 characters)",
     ),
+    "repeat after no time": (
+        _set("person.receiving", {"repeats": True, "repeat_after_s": 0.0}),
+        "person.receiving.repeat_after_s",
+        "expected a number in [0.5, 30] (s), got 0.0",
+    ),
     "source set in the file": (_set("source", "x.yaml"), "source", "unknown key"),
     "long unknown key": (
         _set("table." + "k" * 10_000, 1),

@@ -66,7 +66,8 @@ def run_handover_trial(trial: HandoverTrial) -> dict:
         trial.scenario, replay, monitor_factory=scorer, after_cycle_s=TRIAL_AFTER_CYCLE_S
     )
     names = {obj.color: obj.name for obj in trial.scenario.objects}
-    row = judge(trial, report.cycle or Cycle(), scorers[0].score, report.person_holds, names)
+    row = judge(trial, report.cycle or Cycle(), scorers[0].score, report.person_holds, names,
+                report.person_repeated)  # fmt: skip
     outcome = "handed over" if row["handed_over"] else row["failure"] or "refused, kept"
     name_replay(report.replay, trial.index, outcome)
     person = trial.scenario.person
@@ -80,10 +81,16 @@ def run_handover_trial(trial: HandoverTrial) -> dict:
 
 
 def judge(
-    trial: HandoverTrial, cycle: Cycle, score: TrialScore, holds: str, names: dict[str, str]
+    trial: HandoverTrial,
+    cycle: Cycle,
+    score: TrialScore,
+    holds: str,
+    names: dict[str, str],
+    repeated: float = math.nan,
 ) -> dict:
-    """One trial's outcome from the robot's record (`cycle`), the truth (`score`) and what the
-    person holds at the end; `names` maps the robot's labels (colours) to object names."""
+    """One trial's outcome from the robot's record (`cycle`), the truth (`score`), what the
+    person holds at the end and when they asked again for want of a response (`repeated`,
+    s; NaN if they did not); `names` maps the robot's labels (colours) to object names."""
     recognised = _name(names, cycle.target)
     corrected = cycle.first_target is not None
     # An object lifted first and then put back at the person's correction is no failure.
@@ -106,6 +113,7 @@ def judge(
         "recognised": recognised,
         "first_recognised": _name(names, cycle.first_target) or recognised,
         "corrected": corrected, "corrected_s": cycle.corrected_time - trial.pointing_onset,
+        "repeated": not math.isnan(repeated), "repeated_s": repeated - trial.pointing_onset,
         "outcome": cycle.phase.value,
         "robot_failure": cycle.failure.value if cycle.failure else "", "reason": cycle.reason,
         "retrieved": retrieved, "handed_over": handed_over, "person_holds": holds,
@@ -202,8 +210,9 @@ def _median(values: list[float]) -> float:
 
 def summarise(experiment: HandoverExperiment) -> dict:
     """The JSON summary: retrieval and handover rates beside the paper's, how often the object
-    first fetched was the one asked for and in how many trials the person corrected the robot
-    (which put the first object back and fetched the other), failures per class,
+    first fetched was the one asked for, in how many trials the person corrected the robot
+    (which put the first object back and fetched the other) and in how many they asked again
+    for want of a response, failures per class,
     contacts, the medians of recognition, planning and execution time over successful
     trials, the least clearance, in how many trials the robot watched from a raised torso,
     refusals handled, and the settings the trials ran with."""
@@ -224,6 +233,7 @@ def summarise(experiment: HandoverExperiment) -> dict:
             sum(row.get("first_recognised") == row["target"] for row in requests), len(requests)
         ),  # fmt: skip
         "corrected": sum(bool(row.get("corrected")) for row in requests),
+        "repeated": sum(bool(row.get("repeated")) for row in requests),
         "paper": PAPER,
         "failures": failures,
         "table_contacts": sum(row["table_contact"] for row in ran),

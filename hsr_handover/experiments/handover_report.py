@@ -19,7 +19,7 @@ from hsr_handover.experiments.reporting import (  # noqa: E402
 
 CSV_COLUMNS = (
     "index", "target", "arm", "takes", "reaction_s", "held_out", "recognised", "first_recognised",
-    "corrected", "corrected_s", "retrieved",
+    "corrected", "corrected_s", "repeated", "repeated_s", "retrieved",
     "handed_over", "graceful", "failure", "outcome", "robot_failure", "reason", "person_holds",
     "table_contact", "person_contact", "knocked", "person_knocked", "table_contact_s",
     "person_contact_s", "dropped_s", "gripped_s", "released_s", "clearance_table_m",
@@ -49,7 +49,8 @@ def summary_lines(summary: dict) -> list[str]:
         f"{_percent(paper['handover_rate']):>8s}",
         f"the object first fetched was the one asked for in "
         f"{_percent(summary['first_choice_rate']).strip()}; the person corrected the robot in "
-        f"{summary['corrected']} (it put the first back and fetched the other)",
+        f"{summary['corrected']} (it put the first back and fetched the other) and asked "
+        f"again for want of a response in {summary['repeated']}",
         "failures: " + (", ".join(f"{name} {count}" for name, count in
                                   summary["failures"].items() if count) or "none"),
         f"trials with contact: table {summary['table_contacts']}, person "

@@ -16,7 +16,11 @@ import math
 
 import numpy as np
 
-from hsr_handover.literature import BREUER_POINTING_ERROR_DEG, STIEFELHAGEN_HEAD_FRACTION
+from hsr_handover.literature import (
+    BREUER_POINTING_ERROR_DEG,
+    HEAD_FRACTION_SD,
+    STIEFELHAGEN_HEAD_FRACTION,
+)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -27,7 +31,7 @@ class Imprecision:
 
     pointing_error_deg: float = BREUER_POINTING_ERROR_DEG
     head_turn_fraction: float = STIEFELHAGEN_HEAD_FRACTION
-    head_turn_fraction_sd: float = 0.08
+    head_turn_fraction_sd: float = HEAD_FRACTION_SD
 
 
 def draw_head_fraction(rng: np.random.Generator, imprecision: Imprecision) -> float:

@@ -89,14 +89,17 @@ class Receiving(enum.Enum):
 class ReceivingParams:
     """How this person takes an object: `takes` (False: never reaches, the robot must time
     out), the reaction time `reaction_s` (s) from the offer to the reach (and from seeing
-    another object lifted to asking again), the `arm`, and whether the person asks again
+    another object lifted to asking again), the `arm`, whether the person asks again
     when the robot lifts an object other than the one asked for (`corrects`,
-    `human.correcting`)."""
+    `human.correcting`), and whether they ask again when the robot's hand has not moved for
+    `repeat_after_s` after the pointing ended (`repeats`, `human.repeating`)."""
 
     takes: bool = True
     reaction_s: float = 0.5
     arm: str = "right"
     corrects: bool = True
+    repeats: bool = True
+    repeat_after_s: float = 6.0
 
 
 class Receiver:

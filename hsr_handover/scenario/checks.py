@@ -383,6 +383,8 @@ def _check_person(scenario: Scenario, fail: Fail) -> None:
     _choice(fail, "person.posture", person.posture, ("seated", "standing"))
     _number(fail, "person.receiving.reaction_s", person.receiving.reaction_s, Interval(0, 10, "s"))
     _choice(fail, "person.receiving.arm", person.receiving.arm, ("right", "left"))
+    _number(fail, "person.receiving.repeat_after_s", person.receiving.repeat_after_s,
+            Interval(0.5, 30, "s"))  # fmt: skip
     names = sorted(obj.name for obj in scenario.objects)
     _check_time_order(fail, "person.behavior", [action.start for action in person.behavior])
     for index, action in enumerate(person.behavior):

@@ -178,19 +178,23 @@ class VariationConfig:
 class ReceivingConfig:
     """How the person takes an object the robot holds out (the world side of a handover):
     `takes` (false: never reaches, so the robot must give up), `reaction_s` from the offer
-    (the object still and within reach) to the reach, the `arm`, and `corrects` (false: a
-    person who sees the robot lift another object than the one asked for does not ask again).
-    A person who asked for an object takes only that one.
+    (the object still and within reach) to the reach, the `arm`, `corrects` (false: a
+    person who sees the robot lift another object than the one asked for does not ask again)
+    and `repeats` (false: a person whose request draws no response, the robot's hand still
+    for `repeat_after_s` after the pointing ends, does not ask again). A person who asked for
+    an object takes only that one.
 
-    Ranges: reaction_s in [0, 10] s; arm "right" or "left"."""
+    Ranges: reaction_s in [0, 10] s; arm "right" or "left"; repeat_after_s in [0.5, 30] s."""
 
     takes: bool = ReceivingParams.takes
     reaction_s: float = ReceivingParams.reaction_s
     arm: str = ReceivingParams.arm
     corrects: bool = ReceivingParams.corrects
+    repeats: bool = ReceivingParams.repeats
+    repeat_after_s: float = ReceivingParams.repeat_after_s
 
     def params(self) -> ReceivingParams:
-        return ReceivingParams(self.takes, self.reaction_s, self.arm, self.corrects)
+        return ReceivingParams(**dataclasses.asdict(self))
 
 
 @dataclasses.dataclass
@@ -325,14 +329,16 @@ class IntentConfig:
     object, and the eyes' direction (eq. 17's face normal, its turn from the torso's forward
     direction and its pitch from level, tilted down by `face_tilt_deg`, scaled by `head_gain`)
     within `gaze_tolerance_deg` horizontally of the same object and no more than
-    `gaze_pitch_tolerance_deg` above it, both for `t_max`, over rays averaged across
+    `gaze_pitch_tolerance_deg` above it (or `gaze_pitch_tolerance_share` of the eyes' look down
+    to it, if more), both for `t_max`, over rays averaged across
     `smoothing_s` (the face's pitch across `pitch_smoothing_s`), while the pointing arm turns
     slower than `steady_deg_s`; an arm that reads bent for no longer than `bent_gap_s` goes on
     pointing; `gaze_weight` weighs the eyes against the arm between objects both allow. The
     meaning and the measured defaults: `hsr_handover.intent.IntentParams`.
 
     Ranges: straight_arm_deg in (90, 180] deg; d_min in (0, 2] m; gaze_tolerance_deg and
-    gaze_pitch_tolerance_deg in (0, 90] deg; gaze_weight in (0, 10]; t_max in [0, 10] s;
+    gaze_pitch_tolerance_deg in (0, 90] deg; gaze_pitch_tolerance_share in [0, 1];
+    gaze_weight in (0, 10]; t_max in [0, 10] s;
     head_gain in [1, 3]; face_tilt_deg in [0, 90] deg; smoothing_s in [0, 10] s; steady_deg_s
     in (0, 1000] deg/s; bent_gap_s and pitch_smoothing_s in [0, 10] s."""
 
@@ -340,6 +346,7 @@ class IntentConfig:
     d_min: float = IntentParams.d_min
     gaze_tolerance_deg: float = IntentParams.gaze_tolerance_deg
     gaze_pitch_tolerance_deg: float = IntentParams.gaze_pitch_tolerance_deg
+    gaze_pitch_tolerance_share: float = IntentParams.gaze_pitch_tolerance_share
     gaze_weight: float = IntentParams.gaze_weight
     t_max: float = IntentParams.t_max
     pointing_ray: str = IntentParams.pointing_ray

@@ -39,6 +39,7 @@ from hsr_handover.human.behavior import PostureTimeline, posture_changes
 from hsr_handover.human.body import PERSON_JOINTS, BodyDimensions
 from hsr_handover.human.correcting import Corrector
 from hsr_handover.human.receiving import Receiver
+from hsr_handover.human.repeating import Repeater
 from hsr_handover.perception.skeleton import SkeletonNoise
 from hsr_handover.scenario import (
     Scenario,
@@ -50,14 +51,17 @@ from hsr_handover.station.camera import add_head_camera
 from hsr_handover.station.hsr_interface import add_hsr_interface
 from hsr_handover.station.recorded_skeleton import add_recorded_skeleton
 from hsr_handover.station.world import (
+    CORRECTION_STREAM,
+    REPEAT_STREAM,
     add_floor,
     add_world,
-    correction_actions,
     couple_default_positions,
     floor_filter,
+    last_request,
     person_actions,
     person_pose,
     render_params,
+    request_again,
     set_default_positions,
     wanted_object,
 )
@@ -130,6 +134,7 @@ def _add_person(builder, plant, robot, person, objects, body, timeline, scenario
             Receiver(body, params, scenario.table.height, wanted),
             world,
             _corrector(body, scenario, wanted) if params.corrects else None,
+            _repeater(body, scenario) if params.repeats else None,
         ),
     )
     builder.Connect(
@@ -151,11 +156,27 @@ def _add_person(builder, plant, robot, person, objects, body, timeline, scenario
 
 def _corrector(body: BodyDimensions, scenario: Scenario, wanted: str) -> Corrector | None:
     """The person asking again if the robot lifts another object (None with nothing asked)."""
-    actions = correction_actions(scenario, body)
-    if not wanted or not actions:
+    changes = _asked_again(body, scenario, CORRECTION_STREAM)
+    if not wanted or not changes:
         return None
-    changes = posture_changes(body, actions, scenario.table.height)[1:]  # not the rest at 0
     return Corrector(wanted, changes, scenario.person.receiving.reaction_s)
+
+
+def _repeater(body: BodyDimensions, scenario: Scenario) -> Repeater | None:
+    """The person asking again if the robot does not respond (None with nothing asked, or a
+    pointing held to the end)."""
+    point = last_request(scenario)
+    if point is None or point.duration is None:
+        return None
+    changes = _asked_again(body, scenario, REPEAT_STREAM)
+    ended = point.start + point.duration
+    return Repeater(changes, ended, scenario.person.receiving.repeat_after_s)
+
+
+def _asked_again(body: BodyDimensions, scenario: Scenario, stream: int) -> list:
+    """The request made again (`request_again`) as posture changes from its start."""
+    actions = request_again(scenario, body, stream)
+    return posture_changes(body, actions, scenario.table.height)[1:]  # not the rest at 0
 
 
 def _world_bodies(plant, robot, hand, objects, bodies, hand_middle, scenario) -> WorldBodies:

@@ -43,8 +43,11 @@ FLOOR_SIZE = (40.0, 40.0, 0.1)  # m: the room's floor, its top at z = 0
 PERSON_STREAM = 0x9E4
 """Keys the person's random draws apart from the other users of the run's seed."""
 CORRECTION_STREAM = 0x9E5
-"""Keys the draws of the person's request made again (`correction_actions`): its own, so a
-script's draws are the same whether or not the person ever corrects the robot."""
+"""Keys the draws of the person's request made again when the robot lifts another object
+(`request_again`): its own, so a script's draws are the same whether or not the person ever
+corrects the robot."""
+REPEAT_STREAM = 0x9E6
+"""Keys the draws of the request repeated when the robot does not respond (`request_again`)."""
 
 
 def person_pose(scenario: Scenario) -> RigidTransform:
@@ -79,21 +82,27 @@ def person_actions(scenario: Scenario, body: BodyDimensions) -> list[Action]:
     return _resolved(scenario, body, scenario.person.behavior, rng, head_fraction)
 
 
+def last_request(scenario: Scenario) -> ActionConfig | None:
+    """The script's last pointing (None when it never points)."""
+    requests = [item for item in scenario.person.behavior if item.action == "point_at"]
+    return requests[-1] if requests else None
+
+
 def wanted_object(scenario: Scenario) -> str:
     """The object the script's last pointing asks for ("" when it points at nothing)."""
-    requests = [item for item in scenario.person.behavior if item.action == "point_at"]
-    return requests[-1].target if requests else ""
+    point = last_request(scenario)
+    return point.target if point is not None else ""
 
 
-def correction_actions(scenario: Scenario, body: BodyDimensions) -> list[Action]:
+def request_again(scenario: Scenario, body: BodyDimensions, stream: int) -> list[Action]:
     """The script's last request made again, from time 0 (the person asking once more when the
-    robot lifts another object): the look at the object, then the pointing as long after it
-    and for as long as in the script, with a pointing error of its own (drawn from its own
-    stream of the run's seed) and this person's head fraction. Empty when nothing is asked."""
-    requests = [item for item in scenario.person.behavior if item.action == "point_at"]
-    if not requests:
+    robot lifts another object, or does not respond): the look at the object, then the
+    pointing as long after it and for as long as in the script, with a pointing error of its
+    own (drawn from `stream` of the run's seed: CORRECTION_STREAM or REPEAT_STREAM) and this
+    person's head fraction. Empty when nothing is asked."""
+    point = last_request(scenario)
+    if point is None:
         return []
-    point = requests[-1]
     looks = [item for item in scenario.person.behavior
              if item.action == "look_at" and item.target == point.target
              and item.start <= point.start]  # fmt: skip
@@ -104,7 +113,7 @@ def correction_actions(scenario: Scenario, body: BodyDimensions) -> list[Action]
     ]
     person = np.random.default_rng([scenario.simulation.seed, PERSON_STREAM])
     head_fraction = draw_head_fraction(person, scenario.person.imprecision.model())
-    rng = np.random.default_rng([scenario.simulation.seed, CORRECTION_STREAM])
+    rng = np.random.default_rng([scenario.simulation.seed, stream])
     return _resolved(scenario, body, items, rng, head_fraction)
 
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -17,6 +18,7 @@ from hsr_handover.human.behavior import PostureTimeline
 from hsr_handover.human.body import PERSON_JOINTS
 from hsr_handover.human.correcting import Corrector
 from hsr_handover.human.receiving import Receiver, Receiving
+from hsr_handover.human.repeating import Repeater
 from hsr_handover.systems.contact_pairs import contact_pairs
 
 RECEIVING_PERIOD = 0.05  # s between the person's looks at the world while waiting to take
@@ -52,6 +54,7 @@ class _Acting:
     timeline: PostureTimeline
     receiver: Receiver | None
     corrector: Corrector | None = None
+    repeater: Repeater | None = None
 
     def __deepcopy__(self, memo: dict) -> _Acting:
         """Drake copies the state at every update: the timeline is never changed once made
@@ -60,6 +63,7 @@ class _Acting:
             self.timeline,
             copy.deepcopy(self.receiver, memo),
             copy.deepcopy(self.corrector, memo),
+            copy.deepcopy(self.repeater, memo),
         )
 
 
@@ -73,7 +77,8 @@ class HumanActor(LeafSystem):
     holds ("" for none). Input `contact_results` (the plant's; optional) tells what the hand
     touches: the hand closes on what it reaches for when it strikes it. With a `corrector`
     (which needs the receiver's inputs too) the person asks again when the robot lifts an
-    object other than the one asked for.
+    object other than the one asked for; with a `repeater` (the same), when the robot's
+    hand (the first of the `world`'s gripper capsules) stays still after the request.
     """
 
     def __init__(
@@ -83,6 +88,7 @@ class HumanActor(LeafSystem):
         receiver: Receiver | None = None,
         world: WorldBodies | None = None,
         corrector: Corrector | None = None,
+        repeater: Repeater | None = None,
     ):
         super().__init__()
         unknown = [name for name in joint_order if name not in PERSON_JOINTS]
@@ -90,12 +96,15 @@ class HumanActor(LeafSystem):
             raise ValueError(f"joint_order: expected names from PERSON_JOINTS, got {unknown}")
         if (receiver is None) != (world is None):
             raise ValueError("receiver and world: expected both or neither")
-        if corrector is not None and receiver is None:
-            raise ValueError("corrector: expected a receiver and world beside it")
+        for name, watcher in (("corrector", corrector), ("repeater", repeater)):
+            if watcher is not None and receiver is None:
+                raise ValueError(f"{name}: expected a receiver and world beside it")
+        if repeater is not None and not world.gripper:
+            raise ValueError("repeater: expected the world's gripper capsules to watch")
         self._order = np.array([PERSON_JOINTS.index(name) for name in joint_order])
         self._world = world
         self._acting = self.DeclareAbstractState(
-            AbstractValue.Make(_Acting(timeline, receiver, corrector))
+            AbstractValue.Make(_Acting(timeline, receiver, corrector, repeater))
         )
         self.DeclareVectorOutputPort(
             "person_desired_state", 2 * len(self._order), self._calc_desired_state
@@ -126,8 +135,10 @@ class HumanActor(LeafSystem):
         )
         changes = acting.receiver.update(time, objects, hand, gripper, posture, touching)
         if acting.corrector is not None:
-            changes = sorted(acting.corrector.update(time, objects) + changes, key=_start)
-        for start, goal in changes:
+            changes = changes + acting.corrector.update(time, objects)
+        if acting.repeater is not None:
+            changes = changes + acting.repeater.update(time, gripper[0][0])
+        for start, goal in sorted(changes, key=_start):
             acting.timeline = acting.timeline.interrupted(start, goal)
 
     def _touching(self, context: Context) -> frozenset[str]:
@@ -139,6 +150,12 @@ class HumanActor(LeafSystem):
         timeline = context.get_abstract_state(self._acting).get_value().timeline
         q, v = timeline.evaluate(context.get_time())
         output.SetFromVector(np.concatenate([q[self._order], v[self._order]]))
+
+    def repeated_at(self, context: Context) -> float:
+        """When the person asked again for want of a response (s; NaN if they did not)."""
+        repeater = context.get_abstract_state(self._acting).get_value().repeater
+        at = None if repeater is None else repeater.repeated_at
+        return math.nan if at is None else at
 
     def _calc_grip(self, context: Context, output: AbstractValue) -> None:
         receiver = context.get_abstract_state(self._acting).get_value().receiver

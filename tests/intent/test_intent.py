@@ -36,6 +36,7 @@ from hsr_handover.intent.tracker import (
     judge_frame,
     observe,
     pitch_errors_deg,
+    pitch_tolerance_deg,
     torso_forward,
 )
 from hsr_handover.perception.coco18 import keypoint_index
@@ -164,6 +165,30 @@ def test_eyes_looking_over_the_table_do_not_ask_for_the_cup_the_arm_lies_toward(
     assert judge_frame(points, confidence, CUPS, params).candidate == label
 
 
+def test_the_eyes_may_pass_further_above_an_object_they_look_further_down_to():
+    """A head that makes less than the usual share of a gaze shift reads above the object by a
+    share of the whole look down: `gaze_pitch_tolerance_share` of it, when more than the
+    fixed tolerance (a standing person's 45 degrees down, not a seated one's 30)."""
+    params = IntentParams()
+    eyes = np.array([0.0, 0.0, 1.2])
+    seated = eyes + [0.8, 0.1, -0.46]  # 30 degrees down
+    standing = eyes + [0.6, 0.6, -0.85]  # 45 degrees down
+    assert pitch_tolerance_deg(eyes, seated, params) == params.gaze_pitch_tolerance_deg
+    share = params.gaze_pitch_tolerance_share
+    assert share == pytest.approx(0.232, abs=0.001)
+    assert pitch_tolerance_deg(eyes, standing, params) == pytest.approx(share * 45.0, abs=0.1)
+    fixed = IntentParams(gaze_pitch_tolerance_share=0.0)
+    assert pitch_tolerance_deg(eyes, standing, fixed) == fixed.gaze_pitch_tolerance_deg
+    # judged: the eyes ahead over the table pass 20 degrees above the cup, allowed by a share
+    # of the look down to it as large as the whole
+    label, center = CUPS[1]
+    ahead = np.array([-1.0, 0.0, BODY.eye_z])
+    points, confidence = keypoints(look_at=ahead, point_with="right", point_at=center)
+    tilt = math.degrees(math.atan2(0.18, 0.42))
+    lenient = IntentParams(face_tilt_deg=tilt, gaze_pitch_tolerance_share=1.0)
+    assert judge_frame(points, confidence, CUPS, lenient).candidate == label
+
+
 def test_the_pitch_is_checked_on_the_face_over_the_longer_window():
     """The horizontal bearing is read from `face`; whether the eyes pass above the object from
     `face_for_pitch` (the face averaged over `pitch_smoothing_s`): a face that has looked
@@ -287,6 +312,7 @@ def test_looking_elsewhere_breaks_the_dwell():
         ("t_max", -1.0),
         ("pointing_ray", "nose"),
         ("gaze_pitch_tolerance_deg", 0.0),
+        ("gaze_pitch_tolerance_share", 1.5),
         ("gaze_weight", 0.0),
     ],  # fmt: skip
 )
