@@ -136,9 +136,10 @@ def test_contact_after_the_handover_is_complete_is_counted_but_does_not_fail_it(
 
 def test_a_wrong_object_put_back_at_the_persons_correction_is_no_failure(box_trial):
     corrected = dataclasses.replace(_cycle(), first_target="red", corrected_time=8.0)
-    both = _score(lifted={"red_cup": 7.0, "yellow_box": 12.0})
+    both = _score(lifted={"red_cup": 7.0, "yellow_box": 12.0}, set_down={"red_cup": -0.002})
     row = judge(box_trial, corrected, both, "yellow_box", NAMES)
     assert (row["retrieved"], row["handed_over"], row["failure"]) == (True, True, "")
+    assert row["set_down_m"] == pytest.approx(0.002)  # put back where it stood
     assert (row["first_recognised"], row["recognised"], row["corrected"]) == (
         "red_cup", "yellow_box", True)  # fmt: skip
     assert row["corrected_s"] == pytest.approx(8.0 - box_trial.pointing_onset)
@@ -172,7 +173,8 @@ def _experiment(base, box_trial, refusal):
     good = judge(box_trial, _cycle(), _score(), "yellow_box", NAMES)
     raised = dataclasses.replace(_cycle(), watch_lift=0.42)  # watched from a raised torso
     late = judge(box_trial, raised, _score(person_contact=30.0), "yellow_box", NAMES, 12.5)
-    table = judge(box_trial, _cycle(), _score(table_contact=12.0), "", NAMES)
+    table = judge(box_trial, _cycle(), _score(table_contact=12.0, set_down={"red_cup": 0.2}),
+                  "", NAMES)  # fmt: skip
     label = {"red_cup": "red", "yellow_box": "yellow", "blue_cup": "blue"}[refusal.target]
     gave_up = _cycle(label, ("approach", "present", "retreat"), Failure.TIMEOUT)
     graceful = judge(refusal, gave_up, _score(lifted={refusal.target: 9.0}, gripped=math.nan),
@@ -201,6 +203,7 @@ def test_the_summary_counts_every_trial_crashed_ones_too(base, box_trial, refusa
     assert summary["watched_raised"] == 1
     assert summary["first_choice_rate"] == pytest.approx(3 / 4) and summary["corrected"] == 0
     assert summary["repeated"] == 1  # the late trial's person asked again
+    assert summary["objects_misplaced"] == 1  # the red cup lifted and left up
 
 
 def test_results_are_written_as_csv_json_text_and_a_figure(base, box_trial, refusal, tmp_path):

@@ -80,3 +80,27 @@ def test_the_person_touching_an_object_before_the_robot_lifts_it_is_the_persons_
     taken = _carried()
     taken.observe(2.0, START | {"cup": 0.9}, HELD + [("cup", HAND)], "cup")  # the handover
     assert taken.score.person_knocked == {}
+
+
+def test_an_object_lifted_by_mistake_is_the_robots_load_until_it_is_set_down_again():
+    """The box lifted first (the request misread) and carried back: its touching the person,
+    or the table while still up, is the robot's contact; set down on the table it is not, and
+    `set_down` says how far from where it stood it ended."""
+    watch = TrialWatch("cup")
+    watch.observe(0.0, dict(START), [], "")
+    up = START | {"box": START["box"] + 2 * LIFTED}
+    watch.observe(1.0, up, [(ROBOT, "box")], "")
+    assert watch.score.lifted == {"box": 1.0} and not watch.carrying()
+    watch.observe(2.0, up, [(ROBOT, "box"), ("box", HAND)], "")
+    assert watch.score.person_contact == 2.0
+    watch.observe(3.0, up, [(ROBOT, "box"), ("box", TABLE)], "")
+    assert watch.score.table_contact == 3.0
+    put_back = TrialWatch("cup")
+    put_back.observe(0.0, dict(START), [], "")
+    put_back.observe(1.0, up, [(ROBOT, "box")], "")
+    put_back.observe(2.0, START | {"box": START["box"] + 0.002}, [("box", TABLE)], "")
+    assert math.isnan(put_back.score.table_contact)
+    assert put_back.score.set_down == {"box": pytest.approx(0.002)}
+    fallen = START | {"box": START["box"] - 0.03}  # down on its side
+    put_back.observe(3.0, fallen, [("box", TABLE)], "")
+    assert put_back.score.set_down == {"box": pytest.approx(-0.03)}

@@ -26,7 +26,7 @@ from hsr_handover.experiments.experiment import (
     rate,
     replay_while_running,
 )
-from hsr_handover.experiments.handover_scoring import HandoverScorer, TrialScore
+from hsr_handover.experiments.handover_scoring import DROPPED, HandoverScorer, TrialScore
 from hsr_handover.experiments.handover_trials import TIME_LIMIT_S, HandoverTrial, make_trials
 from hsr_handover.experiments.seating import sit_clear
 from hsr_handover.experiments.trials import Progress
@@ -121,6 +121,7 @@ def judge(
         "table_contact": not math.isnan(score.table_contact),
         "person_contact": not math.isnan(score.person_contact),
         "knocked": ",".join(sorted(set(score.knocked) - set(score.lifted))),
+        "set_down_m": max((abs(v) for v in score.set_down.values()), default=math.nan),
         "person_knocked": ",".join(sorted(score.person_knocked)),
         "table_contact_s": score.table_contact, "person_contact_s": score.person_contact,
         "dropped_s": score.dropped, "gripped_s": score.gripped, "released_s": release_time,
@@ -212,10 +213,11 @@ def summarise(experiment: HandoverExperiment) -> dict:
     """The JSON summary: retrieval and handover rates beside the paper's, how often the object
     first fetched was the one asked for, in how many trials the person corrected the robot
     (which put the first object back and fetched the other) and in how many they asked again
-    for want of a response, failures per class,
-    contacts, the medians of recognition, planning and execution time over successful
-    trials, the least clearance, in how many trials the robot watched from a raised torso,
-    refusals handled, and the settings the trials ran with."""
+    for want of a response, failures per class, contacts, objects knocked and objects lifted
+    by mistake that did not end standing where they stood (`objects_misplaced`), the medians
+    of recognition, planning and execution time over successful trials, the least clearance,
+    in how many trials the robot watched from a raised torso, refusals handled, and the
+    settings the trials ran with."""
     rows = experiment.rows()
     requests = [row for row in rows if row["takes"]]
     refusals = [row for row in rows if not row["takes"]]
@@ -239,6 +241,7 @@ def summarise(experiment: HandoverExperiment) -> dict:
         "table_contacts": sum(row["table_contact"] for row in ran),
         "person_contacts": sum(row["person_contact"] for row in ran),
         "objects_knocked": sum(bool(row["knocked"]) for row in ran),
+        "objects_misplaced": sum(row.get("set_down_m", math.nan) > DROPPED for row in ran),
         "person_knocked": sum(bool(row["person_knocked"]) for row in ran),
         "times_s": {
             key: _median([row[f"{key}_s"] for row in succeeded])

@@ -21,7 +21,7 @@ CSV_COLUMNS = (
     "index", "target", "arm", "takes", "reaction_s", "held_out", "recognised", "first_recognised",
     "corrected", "corrected_s", "repeated", "repeated_s", "retrieved",
     "handed_over", "graceful", "failure", "outcome", "robot_failure", "reason", "person_holds",
-    "table_contact", "person_contact", "knocked", "person_knocked", "table_contact_s",
+    "table_contact", "person_contact", "knocked", "person_knocked", "set_down_m", "table_contact_s",
     "person_contact_s", "dropped_s", "gripped_s", "released_s", "clearance_table_m",
     "clearance_person_m", "recognition_s", "planning_s", "execution_s", "watch_lift_m", "seed",
     "person_height_m", "person_x_m", "person_y_m", "person_yaw_rad", "person_moved_back_m",
@@ -55,7 +55,8 @@ def summary_lines(summary: dict) -> list[str]:
                                   summary["failures"].items() if count) or "none"),
         f"trials with contact: table {summary['table_contacts']}, person "
         f"{summary['person_contacts']}; objects knocked in {summary['objects_knocked']} "
-        f"(by the person, before the robot lifted them, in {summary['person_knocked']})",
+        f"(by the person, before the robot lifted them, in {summary['person_knocked']}); "
+        f"objects lifted by mistake and not put back standing in {summary['objects_misplaced']}",
         f"medians over successful handovers: recognition "
         f"{format_value(times['recognition'], '.2f', ' s')}, planning "
         f"{format_value(times['planning'], '.2f', ' s')} (wall), execution "

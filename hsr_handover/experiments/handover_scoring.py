@@ -40,7 +40,9 @@ class TrialScore:
     layout's trial 57 of seed 2), when the person's hand closed on the target (`gripped`), and
     the least clearance from the robot and its load to the table and to the person's body (m;
     the hands are left out: touching one is a contact, and a hand comes close to take the
-    object)."""
+    object); and, for every other object the robot lifted (and should have put back), how far
+    above where it stood it was last seen (`set_down`, m: about 0 when put back standing; a
+    box down on its side reads 3 cm below)."""
 
     lifted: dict[str, float] = dataclasses.field(default_factory=dict)
     dropped: float = math.nan
@@ -51,6 +53,7 @@ class TrialScore:
     gripped: float = math.nan
     clearance_table: float = math.inf
     clearance_person: float = math.inf
+    set_down: dict[str, float] = dataclasses.field(default_factory=dict)
 
 
 class TrialWatch:
@@ -62,6 +65,7 @@ class TrialWatch:
         self.score = TrialScore()
         self._target = target
         self._start: dict[str, float] = {}
+        self._heights_now: dict[str, float] = {}
 
     def carrying(self) -> bool:
         """Whether the target counts as part of the robot: lifted, not dropped, not taken."""
@@ -69,6 +73,14 @@ class TrialWatch:
         return (
             self._target in score.lifted and math.isnan(score.dropped) and math.isnan(score.gripped)
         )
+
+    def _carried(self, name: str) -> bool:
+        """Whether `name` counts as part of the robot: the target `carrying`, or another
+        object lifted and not yet set down again."""
+        if name == self._target:
+            return self.carrying()
+        up = self._heights_now.get(name, -math.inf) >= self._start.get(name, math.inf) + DROPPED
+        return name in self.score.lifted and up
 
     def observe(
         self, time: float, heights: dict[str, float], contacts: list[tuple[str, str]], grip: str
@@ -82,10 +94,13 @@ class TrialWatch:
 
     def _heights(self, time: float, heights: dict[str, float], held: bool) -> None:
         score = self.score
+        self._heights_now = heights
         for name, height in heights.items():
             start = self._start.setdefault(name, height)
             if name not in score.lifted and height > start + LIFTED:
                 score.lifted[name] = time
+            if name in score.lifted and name != self._target:
+                score.set_down[name] = height - start
         # HandoverSim's drop: not held, and down on the table (or below it). An object held
         # out low, near the table's edge, is still held.
         low = heights[self._target] < self._start[self._target] + DROPPED
@@ -93,14 +108,15 @@ class TrialWatch:
             score.dropped = time
 
     def _contact(self, time: float, a: str, b: str) -> None:
-        score, carrying = self.score, self.carrying()
+        score = self.score
         for mine, other in ((a, b), (b, a)):
             if mine in (PERSON, HAND) and other not in NOT_OBJECTS and other not in score.lifted:
                 score.person_knocked.setdefault(other, time)
         for mine, other in ((a, b), (b, a)):
-            carried = carrying and mine == self._target
-            if not (mine == ROBOT or carried) or other == ROBOT or (carried and other == HAND):
-                continue  # the hand is there to take the object
+            carried = mine not in NOT_OBJECTS and self._carried(mine)
+            taken = carried and mine == self._target and other == HAND  # the hand takes it
+            if not (mine == ROBOT or carried) or other == ROBOT or taken:
+                continue
             if other == TABLE and math.isnan(score.table_contact):
                 score.table_contact = time
             elif other in (PERSON, HAND) and math.isnan(score.person_contact):

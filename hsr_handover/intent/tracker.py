@@ -627,7 +627,9 @@ class IntentTracker:
         are every object seen so far, where last seen: the objects stay on the table while the
         robot, fetching one, looks at the person."""
         self._objects = self._objects | {label: center for label, center in candidates}
+        held = None  # the target where this frame shows it: once lifted, in the robot's hand
         if self.state_.target is not None:
+            held = dict(candidates).get(self.state_.target)
             candidates = list(self._objects.items())
         frame = _nothing_to_judge(confidence, candidates)
         observed = None
@@ -641,7 +643,7 @@ class IntentTracker:
         state = dataclasses.replace(self.state_, objects=tuple(self._objects.items()))
         if state.target is not None:
             self.state_ = self._correction(dataclasses.replace(state, frame=frame), time,
-                                           observed, candidates)  # fmt: skip
+                                           observed, candidates, held)  # fmt: skip
             return self.state_
         candidate, since = _dwell(state.candidate, state.candidate_since, frame, time)
         target, recognised = None, math.nan
@@ -662,6 +664,21 @@ class IntentTracker:
         below = -pitch_errors_deg(level, center[None])[0]
         return below > self.params.correction_below_deg
 
+    def _on_held(self, observed: Observation, held: np.ndarray | None) -> bool:
+        """Whether the eyes may be on the object the robot holds (at `held`; None when not seen
+        now), within the request's own gaze tolerances: a person watches what the robot
+        brings. (The moved layout's trial 38 of seed 3: eyes on the green cup in the hand, the
+        blue cup on the table behind it, and a resting arm read straight toward both, read as
+        a correction.) The price: a correction whose eyes pass that near the object held is
+        not read (the moved layout's three real ones, seeds 2 and 3, still are)."""
+        if held is None or observed.face is None:
+            return False
+        gaze = gaze_ray(observed.face, observed.forward, self.params)
+        across = bearing_errors_deg(gaze, held[None])[0]
+        above = pitch_errors_deg(gaze, held[None])[0]
+        params = self.params
+        return across <= params.gaze_tolerance_deg and abs(above) <= params.gaze_pitch_tolerance_deg
+
     def _dwelt(self, candidate: str | None, since: float, frame: FrameJudgement, time: float):
         """Whether `candidate` has been asked for `t_max` with the face seen now."""
         done = candidate is not None and time - since >= self.params.t_max - 1e-9
@@ -673,9 +690,11 @@ class IntentTracker:
         time: float,
         observed: Observation | None,
         candidates: Sequence[tuple[str, np.ndarray]],
+        held: np.ndarray | None = None,
     ) -> IntentState:
         """`state` with a correction, once a new gesture has asked for another object than the
-        target for `t_max`, the eyes no more than `correction_below_deg` below it."""
+        target for `t_max`, the eyes no more than `correction_below_deg` below it and not on
+        the object the robot holds (at `held`, where seen now)."""
         watch = self._correcting
         if state.correction is not None:
             return state
@@ -692,7 +711,10 @@ class IntentTracker:
         if observed is None or not others:
             return state
         frame = judge(observed, others, self._correction_params)
-        if frame.candidate is not None and self._below(observed, dict(others)[frame.candidate]):
+        refused = frame.candidate is not None and (
+            self._below(observed, dict(others)[frame.candidate]) or self._on_held(observed, held)
+        )
+        if refused:
             frame = dataclasses.replace(frame, candidate=None, status=GAZE_ELSEWHERE)
         candidate, since = _dwell(watch.candidate, watch.since, frame, time)
         self._correcting = dataclasses.replace(watch, candidate=candidate, since=since)

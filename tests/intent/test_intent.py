@@ -21,12 +21,14 @@ from hsr_handover.intent.rays import (
 from hsr_handover.intent.tracker import (
     ARM_MOVING,
     GAZE_ELSEWHERE,
+    L_EYE,
     NO_CANDIDATES,
     NO_FACE,
     NO_POINTING,
     NO_SKELETON,
     NOTHING_POINTED_AT,
     POINTING,
+    R_EYE,
     RECOGNISED,
     Observation,
     RaySmoother,
@@ -566,7 +568,8 @@ def test_a_correction_reads_the_gaze_with_its_own_tolerance():
         resting, confidence = keypoints(look_at=CUPS[1][1])
         _, time = _run(tracker, time, params.smoothing_s + 0.5, resting, confidence)
         points, confidence = keypoints(look_at=short_of_blue, point_with="right", point_at=blue)
-        states, _ = _run(tracker, time, 2.0, points, confidence)
+        others = [CUPS[0], CUPS[2]]  # the green cup is in the robot's hand, elsewhere
+        states, _ = _run(tracker, time, 2.0, points, confidence, candidates=others)
         return states[-1].correction
 
     assert corrected(IntentParams().correction_gaze_tolerance_deg) == "blue"
@@ -589,3 +592,24 @@ def test_a_correction_is_not_read_from_eyes_on_a_point_below_the_object():
 
     assert corrected(blue) == "blue"
     assert corrected(blue + [0.35, 0.0, -0.1]) is None  # nearer the person and lower: at the hand
+
+
+def test_a_correction_is_not_read_from_eyes_on_the_object_the_robot_holds():
+    """A person watches what the robot brings: the green cup in the robot's hand, between the
+    eyes and the blue cup, and an arm toward the blue cup (a resting arm read straight, the
+    moved layout's trial 38 of seed 3) ask for nothing while the eyes may be on the green."""
+    params = IntentParams(t_max=0.5, face_tilt_deg=TRUE_FACE_TILT)
+    blue = CUPS[2][1]
+
+    def corrected(held_seen: bool) -> str | None:
+        tracker, time = _recognised_green(params)
+        resting, confidence = keypoints(look_at=blue)
+        _, time = _run(tracker, time, params.smoothing_s + 0.5, resting, confidence)
+        points, confidence = keypoints(look_at=blue, point_with="right", point_at=blue)
+        eyes = (points[R_EYE] + points[L_EYE]) / 2
+        held = [("green", eyes + 0.6 * (blue - eyes))] if held_seen else []
+        states, _ = _run(tracker, time, 2.0, points, confidence, candidates=[*held, CUPS[2]])
+        return states[-1].correction
+
+    assert corrected(held_seen=False) == "blue"
+    assert corrected(held_seen=True) is None
