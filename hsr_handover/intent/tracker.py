@@ -105,8 +105,8 @@ class IntentParams:
     the head's share (2 x 0.08 / 0.689 = 0.23): a standing person looks 45 degrees down to the
     table, and the handover run's standing trial 12 (seed 2, a 1.80 m person) read 9-10
     degrees above the green cup it asked for through both its request and a repeat, never
-    recognised at 8 (`pitch_tolerance_deg`); a seated person looks about 30 degrees down, so
-    8 still holds there (the intent reference's trial 77, eyes 11-12 above).
+    recognised at 8 (`pitch_tolerance_deg` gives the bound); a seated person looks about 30
+    degrees down, so 8 still holds there (the intent reference's trial 77, eyes 11-12 above).
     gaze_weight: how much the gaze counts against the arm in choosing between the objects both
     allow (the weight of the gaze's term in `judge`'s score). `d_min` 0.4 m with `gaze_weight`
     0.4 (session 17, `benchmarks/sweep_intent.py` on recorded percepts): on the intent
@@ -562,8 +562,8 @@ class IntentTracker:
     After that it watches for a correction: a person who sees the robot fetch the wrong object
     asks again. Once no arm has pointed for `smoothing_s` (the first gesture's rays have left
     the window), a new gesture that asks for another object than the target, by the same
-    dwell, with the eyes not on a point below it, is the `correction` (latched too). The
-    objects are judged where they were last seen."""
+    dwell, with the eyes not on a point below it nor on the object the robot holds, is the
+    `correction` (latched too). The objects are judged where they were last seen."""
 
     def __init__(self, params: IntentParams | None = None):
         self.params = IntentParams() if params is None else params
