@@ -173,8 +173,8 @@ def _experiment(base, box_trial, refusal):
     good = judge(box_trial, _cycle(), _score(), "yellow_box", NAMES)
     raised = dataclasses.replace(_cycle(), watch_lift=0.42)  # watched from a raised torso
     late = judge(box_trial, raised, _score(person_contact=30.0), "yellow_box", NAMES, 12.5)
-    table = judge(box_trial, _cycle(), _score(table_contact=12.0, set_down={"red_cup": 0.2}),
-                  "", NAMES)  # fmt: skip
+    left_up = {"red_cup": np.float64(0.2)}  # as the plant's poses give it
+    table = judge(box_trial, _cycle(), _score(table_contact=12.0, set_down=left_up), "", NAMES)
     label = {"red_cup": "red", "yellow_box": "yellow", "blue_cup": "blue"}[refusal.target]
     gave_up = _cycle(label, ("approach", "present", "retreat"), Failure.TIMEOUT)
     graceful = judge(refusal, gave_up, _score(lifted={refusal.target: 9.0}, gripped=math.nan),

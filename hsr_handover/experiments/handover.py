@@ -121,7 +121,7 @@ def judge(
         "table_contact": not math.isnan(score.table_contact),
         "person_contact": not math.isnan(score.person_contact),
         "knocked": ",".join(sorted(set(score.knocked) - set(score.lifted))),
-        "set_down_m": max((abs(v) for v in score.set_down.values()), default=math.nan),
+        "set_down_m": max((abs(float(v)) for v in score.set_down.values()), default=math.nan),
         "person_knocked": ",".join(sorted(score.person_knocked)),
         "table_contact_s": score.table_contact, "person_contact_s": score.person_contact,
         "dropped_s": score.dropped, "gripped_s": score.gripped, "released_s": release_time,
@@ -241,7 +241,7 @@ def summarise(experiment: HandoverExperiment) -> dict:
         "table_contacts": sum(row["table_contact"] for row in ran),
         "person_contacts": sum(row["person_contact"] for row in ran),
         "objects_knocked": sum(bool(row["knocked"]) for row in ran),
-        "objects_misplaced": sum(row.get("set_down_m", math.nan) > DROPPED for row in ran),
+        "objects_misplaced": sum(bool(row.get("set_down_m", math.nan) > DROPPED) for row in ran),
         "person_knocked": sum(bool(row["person_knocked"]) for row in ran),
         "times_s": {
             key: _median([row[f"{key}_s"] for row in succeeded])
