@@ -19,6 +19,11 @@ from hsr_handover.human.receiving import RAISED
 Change = tuple[float, np.ndarray]  # (time, whole-body posture)
 
 
+def starting_at(start: float, changes: Sequence[Change]) -> list[Change]:
+    """`changes` (times from their own start) moved to begin at `start` (s)."""
+    return [(start + at, posture) for at, posture in changes]
+
+
 class Corrector:
     """Watches the objects for one other than `wanted` lifted RAISED off the table; then the
     person asks again: the request's posture `changes` (times from the request's start, as
@@ -47,6 +52,5 @@ class Corrector:
             first = self._first.setdefault(name, float(point[2]))
             if name != self.wanted and point[2] >= first + RAISED:
                 self.corrected_at = time
-                start = time + self._reaction_s
-                return [(start + at, posture) for at, posture in self._changes]
+                return starting_at(time + self._reaction_s, self._changes)
         return []

@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from hsr_handover.human.correcting import Change
+from hsr_handover.human.correcting import Change, starting_at
 
 MOVED = 0.10
 """m the robot's hand must move sideways (horizontally) for the person to see a response: a
@@ -53,4 +53,4 @@ class Repeater:
         if time < self._ended + self._wait_s:
             return []
         self.repeated_at = time
-        return [(time + at, posture) for at, posture in self._changes]
+        return starting_at(time, self._changes)

@@ -664,16 +664,16 @@ class IntentTracker:
         below = -pitch_errors_deg(level, center[None])[0]
         return below > self.params.correction_below_deg
 
-    def _on_held(self, observed: Observation, held: np.ndarray | None) -> bool:
-        """Whether the eyes may be on the object the robot holds (at `held`; None when not seen
-        now), within the request's own gaze tolerances: a person watches what the robot
-        brings. (The moved layout's trial 38 of seed 3: eyes on the green cup in the hand, the
-        blue cup on the table behind it, and a resting arm read straight toward both, read as
-        a correction.) The price: a correction whose eyes pass that near the object held is
-        not read (the moved layout's three real ones, seeds 2 and 3, still are)."""
-        if held is None or observed.face is None:
+    def _on_held(self, gaze: Ray | None, held: np.ndarray | None) -> bool:
+        """Whether the eyes (`gaze`, as the frame was judged) may be on the object the robot
+        holds (at `held`; None when not seen now), within the request's own gaze tolerances:
+        a person watches what the robot brings. (The moved layout's trial 38 of seed 3: eyes
+        on the green cup in the hand, the blue cup on the table behind it, and a resting arm
+        read straight toward both, read as a correction.) The price: a correction whose eyes
+        pass that near the object held is not read (the moved layout's three real ones, seeds
+        2 and 3, still are)."""
+        if held is None or gaze is None:
             return False
-        gaze = gaze_ray(observed.face, observed.forward, self.params)
         across = bearing_errors_deg(gaze, held[None])[0]
         above = pitch_errors_deg(gaze, held[None])[0]
         params = self.params
@@ -712,7 +712,7 @@ class IntentTracker:
             return state
         frame = judge(observed, others, self._correction_params)
         refused = frame.candidate is not None and (
-            self._below(observed, dict(others)[frame.candidate]) or self._on_held(observed, held)
+            self._below(observed, dict(others)[frame.candidate]) or self._on_held(frame.gaze, held)
         )
         if refused:
             frame = dataclasses.replace(frame, candidate=None, status=GAZE_ELSEWHERE)

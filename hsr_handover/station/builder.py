@@ -156,8 +156,8 @@ def _add_person(builder, plant, robot, person, objects, body, timeline, scenario
 
 def _corrector(body: BodyDimensions, scenario: Scenario, wanted: str) -> Corrector | None:
     """The person asking again if the robot lifts another object (None with nothing asked)."""
-    changes = _asked_again(body, scenario, CORRECTION_STREAM)
-    if not wanted or not changes:
+    changes = _asked_again(body, scenario, CORRECTION_STREAM) if wanted else []
+    if not changes:
         return None
     return Corrector(wanted, changes, scenario.person.receiving.reaction_s)
 
