@@ -118,6 +118,22 @@ def test_an_edge_at_the_edge_of_the_view_stays_open_until_seen_past():
     assert blind.estimate().open_edges == (True, True, True, True)
 
 
+def test_frames_looking_away_from_the_top_do_not_move_its_height():
+    """The camera looks up at a standing person for longer than it saw the table: each such
+    frame's fullest level is the person's (a forearm held out at 1.15 m), yet the top stays
+    where the frames that saw it put it."""
+    rng = np.random.default_rng(4)
+    table_map = TableMap(WORKSPACE)
+    for _ in range(2):
+        table_map.add(np.vstack([_top(0.01, 0.02, rng), _clutter(rng)]))
+    forearm = np.column_stack([rng.uniform(1.6, 1.9, 1500), rng.uniform(0.0, 0.08, 1500),
+                               1.15 + rng.normal(0.0, 0.002, 1500)])  # fmt: skip
+    for _ in range(5):
+        assert table_map.add(np.vstack([forearm, _clutter(rng)[3000:]])) == "ok"
+    assert np.median(table_map.heights_) == pytest.approx(1.15, abs=0.01)  # most frames
+    _assert_is_the_table(table_map.estimate())
+
+
 def test_no_table_is_reported_and_never_guessed():
     rng = np.random.default_rng(2)
     table_map = TableMap(WORKSPACE)
