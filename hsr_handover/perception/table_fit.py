@@ -2,12 +2,12 @@
 
 A table top is the largest horizontal surface at a table's height in the workspace, so each
 frame's heights are histogrammed and the fullest bin (refined by the median of the points near
-it) is that frame's height, and the top's is their median weighted by the area each frame saw
-at its height (`TableMap.height`). The points on that plane are marked on a grid over the workspace,
-frame after frame, so a head that looks around adds what one view misses; the table's extent
-is the smallest rectangle around the grid's largest connected patch (`cv2.minAreaRect`).
-Objects standing on the table and a person's arm resting on it hide parts of the top but not
-its outline, and they are not at its height.
+it) is that frame's height; the top's is their median weighted by the area each frame saw at
+its height (`TableMap.height`). The points on that plane are marked on a grid over the
+workspace, frame after frame, so a head that looks around adds what one view misses; the
+table's extent is the smallest rectangle around the grid's largest connected patch
+(`cv2.minAreaRect`). Objects standing on the table and a person's arm resting on it hide parts
+of the top but not its outline, and they are not at its height.
 """
 
 from __future__ import annotations
