@@ -154,8 +154,9 @@ class TableMap:
 
     def _area(self, xy: np.ndarray) -> int:
         """The number of grid cells under the points (N, 2)."""
-        rows, cols = self._cells(xy)
-        return int(np.unique(rows * self.counts_.shape[1] + cols).size)
+        seen = np.zeros(self.counts_.shape, dtype=bool)
+        seen[self._cells(xy)] = True
+        return int(np.count_nonzero(seen))
 
     def _cells(self, xy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(rows, columns) of the grid cells under the points (N, 2) that fall on the grid."""
