@@ -108,7 +108,7 @@ def demo(tmp_path_factory: pytest.TempPathFactory) -> DemoRun:
     scorers: list[HandoverScorer] = []
 
     def scorer(simulation) -> HandoverScorer:
-        scorers.append(HandoverScorer(simulation, "yellow_box"))
+        scorers.append(HandoverScorer(simulation, "yellow_box", scenario.table.height))
         return scorers[-1]
 
     replay = tmp_path_factory.mktemp("demo") / "demo.html"

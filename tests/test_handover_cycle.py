@@ -51,6 +51,7 @@ def test_the_truth_judges_it_a_clean_handover(demo):
     assert np.isnan(score.dropped) and np.isnan(score.table_contact) and not score.knocked
     assert not score.person_knocked  # the person touched only the box it was handed
     assert 0.005 < score.clearance_table < 0.1 and score.clearance_person > 0.02
+    assert 0 <= score.table_height_error < 0.01  # the robot's perceived top, against the truth
     onset = scenario.person.behavior[-1].start
     trial = HandoverTrial(0, "yellow_box", "right", onset, True, 0.5, (), scenario)
     names = {obj.color: obj.name for obj in scenario.objects}

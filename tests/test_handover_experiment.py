@@ -170,11 +170,12 @@ def test_a_refusal_is_graceful_only_when_the_robot_gives_up_holding_the_object(r
 
 
 def _experiment(base, box_trial, refusal):
-    good = judge(box_trial, _cycle(), _score(), "yellow_box", NAMES)
+    good = judge(box_trial, _cycle(), _score(table_height_error=0.004), "yellow_box", NAMES)
     raised = dataclasses.replace(_cycle(), watch_lift=0.42)  # watched from a raised torso
     late = judge(box_trial, raised, _score(person_contact=30.0), "yellow_box", NAMES, 12.5)
     left_up = {"red_cup": np.float64(0.2)}  # as the plant's poses give it
-    table = judge(box_trial, _cycle(), _score(table_contact=12.0, set_down=left_up), "", NAMES)
+    table = judge(box_trial, _cycle(), _score(table_contact=12.0, set_down=left_up,
+                                              table_height_error=0.09), "", NAMES)  # fmt: skip
     label = {"red_cup": "red", "yellow_box": "yellow", "blue_cup": "blue"}[refusal.target]
     gave_up = _cycle(label, ("approach", "present", "retreat"), Failure.TIMEOUT)
     graceful = judge(refusal, gave_up, _score(lifted={refusal.target: 9.0}, gripped=math.nan),
@@ -198,6 +199,7 @@ def test_the_summary_counts_every_trial_crashed_ones_too(base, box_trial, refusa
     assert summary["refusal_trials"] == 1 and summary["graceful_refusal_rate"] == 1.0
     assert summary["times_s"]["execution"] == pytest.approx(11.0)
     assert summary["min_clearance_m"] == pytest.approx(0.03)
+    assert summary["table_height_error_m"] == pytest.approx(0.09)  # the worst; NaN ones left out
     assert summary["paper"] == {"retrieval_rate": 0.866, "handover_rate": 0.90}
     assert summary["crashed"] == [{"index": box_trial.index, "error": "RuntimeError: boom"}]
     assert summary["watched_raised"] == 1
@@ -230,6 +232,8 @@ def test_results_are_written_as_csv_json_text_and_a_figure(base, box_trial, refu
     repeated_s = float(cells[1][header.index("repeated_s")])
     assert cells[1][header.index("repeated")] == "True"
     assert repeated_s == pytest.approx(12.5 - box_trial.pointing_onset, abs=1e-3)
+    assert float(cells[0][header.index("table_height_error_m")]) == pytest.approx(0.004)
+    assert "the perceived table top at most 9.0 cm off its height" in text
 
 
 @pytest.mark.parametrize(

@@ -57,7 +57,7 @@ def run_handover_trial(trial: HandoverTrial) -> dict:
     scorers: list[HandoverScorer] = []
 
     def scorer(simulation: Simulation) -> HandoverScorer:
-        scorers.append(HandoverScorer(simulation, trial.target))
+        scorers.append(HandoverScorer(simulation, trial.target, trial.scenario.table.height))
         return scorers[-1]
 
     replay = replay_while_running(trial.replay_dir, trial.index)
@@ -126,6 +126,7 @@ def judge(
         "table_contact_s": score.table_contact, "person_contact_s": score.person_contact,
         "dropped_s": score.dropped, "gripped_s": score.gripped, "released_s": release_time,
         "clearance_table_m": score.clearance_table, "clearance_person_m": score.clearance_person,
+        "table_height_error_m": score.table_height_error,
         "recognition_s": cycle.recognised_time - trial.pointing_onset,
         "planning_s": cycle.planning_s, "execution_s": release_time - cycle.recognised_time,
         "watch_lift_m": cycle.watch_lift,
@@ -209,6 +210,11 @@ def _median(values: list[float]) -> float:
     return float(np.median(finite)) if finite else math.nan
 
 
+def _most(values: list[float]) -> float:
+    finite = [v for v in values if math.isfinite(v)]
+    return float(max(finite)) if finite else math.nan
+
+
 def summarise(experiment: HandoverExperiment) -> dict:
     """The JSON summary: retrieval and handover rates beside the paper's, how often the object
     first fetched was the one asked for, in how many trials the person corrected the robot
@@ -216,8 +222,9 @@ def summarise(experiment: HandoverExperiment) -> dict:
     for want of a response, failures per class, contacts, objects knocked and objects lifted
     by mistake that did not end standing where they stood (`objects_misplaced`), the medians
     of recognition, planning and execution time over successful trials, the least clearance,
-    in how many trials the robot watched from a raised torso, refusals handled, and the
-    settings the trials ran with."""
+    the most the perceived table top was off the true one's height in any trial, in how many
+    trials the robot watched from a raised torso, refusals handled, and the settings the trials
+    ran with."""
     rows = experiment.rows()
     requests = [row for row in rows if row["takes"]]
     refusals = [row for row in rows if not row["takes"]]
@@ -251,6 +258,7 @@ def summarise(experiment: HandoverExperiment) -> dict:
             (min(row["clearance_table_m"], row["clearance_person_m"]) for row in ran),
             default=math.nan,
         ),
+        "table_height_error_m": _most([row.get("table_height_error_m", math.nan) for row in ran]),
         "watched_raised": sum(row["watch_lift_m"] > 0 for row in ran),
         "refusal_trials": len(refusals),
         "graceful_refusal_rate": rate(sum(row["graceful"] for row in refusals), len(refusals)),

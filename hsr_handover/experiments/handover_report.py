@@ -23,9 +23,9 @@ CSV_COLUMNS = (
     "handed_over", "graceful", "failure", "outcome", "robot_failure", "reason", "person_holds",
     "table_contact", "person_contact", "knocked", "person_knocked", "set_down_m", "table_contact_s",
     "person_contact_s", "dropped_s", "gripped_s", "released_s", "clearance_table_m",
-    "clearance_person_m", "recognition_s", "planning_s", "execution_s", "watch_lift_m", "seed",
-    "person_height_m", "person_x_m", "person_y_m", "person_yaw_rad", "person_moved_back_m",
-    "sim_s", "wall_s", "arm_nearest", "arm_error_deg", "error",
+    "clearance_person_m", "table_height_error_m", "recognition_s", "planning_s", "execution_s",
+    "watch_lift_m", "seed", "person_height_m", "person_x_m", "person_y_m", "person_yaw_rad",
+    "person_moved_back_m", "sim_s", "wall_s", "arm_nearest", "arm_error_deg", "error",
 )  # fmt: skip
 
 
@@ -63,6 +63,8 @@ def summary_lines(summary: dict) -> list[str]:
         f"{format_value(times['execution'], '.1f', ' s')}",
         f"least clearance to the table or the person: "
         f"{format_value(100 * summary['min_clearance_m'], '.1f', ' cm')}",
+        f"the perceived table top at most "
+        f"{format_value(100 * summary['table_height_error_m'], '.1f', ' cm')} off its height",
     ]  # fmt: skip
     if summary["watched_raised"]:
         lines.append(f"watched from a raised torso in {summary['watched_raised']} trials "

@@ -14,6 +14,7 @@ from __future__ import annotations
 import dataclasses
 import math
 
+import numpy as np
 from pydrake.systems.framework import Context, EventStatus
 
 from hsr_handover.experiments.true_clearance import HAND, PERSON, ROBOT, TABLE, geometry_owners
@@ -27,6 +28,7 @@ nor the person's closed hand, has dropped (HandoverSim: not held, and touching t
 below it)."""
 CLEARANCE_EVERY_S = 0.05  # s between clearance measurements
 NEAR = 0.5  # m: distances beyond this are not measured
+PERCEIVED_TABLE = "table"  # the robot's output of the table it perceives (PERCEPTION_OUTPUTS)
 NOT_OBJECTS = frozenset({TABLE, PERSON, HAND, ROBOT, ""})  # the owners that are not objects
 
 
@@ -42,7 +44,8 @@ class TrialScore:
     the hands are left out: touching one is a contact, and a hand comes close to take the
     object); and, for every other object the robot lifted (and should have put back), how far
     above where it stood it was last seen (`set_down`, m: about 0 when put back standing; a
-    box down on its side reads 3 cm below)."""
+    box down on its side reads 3 cm below); and the most the robot's perceived table top was
+    off the true one's height (`table_height_error`, m; NaN if it never perceived one)."""
 
     lifted: dict[str, float] = dataclasses.field(default_factory=dict)
     dropped: float = math.nan
@@ -54,6 +57,7 @@ class TrialScore:
     clearance_table: float = math.inf
     clearance_person: float = math.inf
     set_down: dict[str, float] = dataclasses.field(default_factory=dict)
+    table_height_error: float = math.nan
 
 
 class TrialWatch:
@@ -127,9 +131,12 @@ class TrialWatch:
 
 class HandoverScorer:
     """A simulator monitor scoring one trial in which the person asks for `target` (by name):
-    it reads the plant after each step and hands what it reads to a `TrialWatch`."""
+    it reads the plant after each step and hands what it reads to a `TrialWatch`. Given the
+    true `table_height` (m), it also compares the robot's perceived table top with it (the
+    percepts the planner's scene is built from: a top perceived 9 cm high once sent a carry
+    into the table, session 30)."""
 
-    def __init__(self, simulation: Simulation, target: str):
+    def __init__(self, simulation: Simulation, target: str, table_height: float = math.nan):
         station = simulation.station
         self._plant = station.plant
         self._watch = TrialWatch(target)
@@ -139,6 +146,10 @@ class HandoverScorer:
         actor = station.diagram.GetSubsystemByName("human_actor")
         self._actor, self._grip = actor, actor.GetOutputPort("grip")
         self._next_clearance = 0.0
+        robot = self._robot = simulation.robot.diagram
+        perceives = robot.HasOutputPort(PERCEIVED_TABLE)
+        self._table = robot.GetOutputPort(PERCEIVED_TABLE) if perceives else None
+        self._table_height = table_height
 
     @property
     def score(self) -> TrialScore:
@@ -157,7 +168,17 @@ class HandoverScorer:
         if time >= self._next_clearance:
             self._next_clearance = time + CLEARANCE_EVERY_S
             self._clearance(plant_context)
+            self._perceived_table(root)
         return EventStatus.Succeeded()
+
+    def _perceived_table(self, root: Context) -> None:
+        """Keep the most the robot's perceived table top is off the true height so far."""
+        if self._table is None or math.isnan(self._table_height):
+            return
+        estimate = self._table.Eval(self._robot.GetMyContextFromRoot(root)).estimate
+        if estimate is not None:
+            error = abs(estimate.height - self._table_height)
+            self.score.table_height_error = float(np.fmax(self.score.table_height_error, error))
 
     def _grip_now(self, root: Context) -> str:
         return self._grip.Eval(self._actor.GetMyContextFromRoot(root))
