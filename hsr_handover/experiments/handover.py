@@ -206,13 +206,17 @@ def run_handover_experiment(
 
 
 def _median(values: list[float]) -> float:
-    finite = [v for v in values if math.isfinite(v)]
-    return float(np.median(finite)) if finite else math.nan
+    return _of_finite(np.median, values)
 
 
 def _most(values: list[float]) -> float:
+    return _of_finite(max, values)
+
+
+def _of_finite(statistic, values: list[float]) -> float:
+    """`statistic` of the finite `values` (NaN marks a trial without the figure); NaN if none."""
     finite = [v for v in values if math.isfinite(v)]
-    return float(max(finite)) if finite else math.nan
+    return float(statistic(finite)) if finite else math.nan
 
 
 def summarise(experiment: HandoverExperiment) -> dict:
