@@ -134,22 +134,25 @@ class TableMap:
         height = top_height(points[:, 2], self.params)
         if height is None:
             return NO_POINTS
-        level = points[np.abs(points[:, 2] - height) <= self.params.band_m]
         self.heights_.append(height)
-        self.areas_.append(max(self._area(level[:, :2]), 1))
-        on_top = points[np.abs(points[:, 2] - self.height) <= self.params.band_m]
-        np.add.at(self.counts_, self._cells(on_top[:, :2]), 1)
+        self.areas_.append(max(self._area(self._level(points, height)), 1))
+        top = self.height  # the frames' so far, this one's included
+        np.add.at(self.counts_, self._cells(self._level(points, top)), 1)
         if view is not None:
-            self._mark_viewed(*view)
+            self._mark_viewed(*view, top)
         return "ok"
 
-    def _mark_viewed(self, camera: PinholeCamera, X_WC: np.ndarray) -> None:
+    def _level(self, points: np.ndarray, height: float) -> np.ndarray:
+        """The floor-plan positions (N, 2) of the points (N, 3) within `band_m` of `height`."""
+        return points[np.abs(points[:, 2] - height) <= self.params.band_m, :2]
+
+    def _mark_viewed(self, camera: PinholeCamera, X_WC: np.ndarray, top: float) -> None:
         rows, cols = self.counts_.shape
         y, x = np.mgrid[0:rows, 0:cols]
         centres = (
             self._origin + (np.column_stack([x.ravel(), y.ravel()]) + 0.5) * self.params.cell_m
         )
-        at_top = np.column_stack([centres, np.full(len(centres), self.height)])
+        at_top = np.column_stack([centres, np.full(len(centres), top)])
         self.viewed_ |= camera.project_in_view(at_top, X_WC)[2].reshape(rows, cols)
 
     def _area(self, xy: np.ndarray) -> int:
