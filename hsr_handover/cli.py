@@ -62,6 +62,14 @@ def _add_trial_arguments(parser) -> None:
     parser.add_argument(
         "--html-dir", type=Path, help="a replay per trial, named by trial and outcome"
     )
+    parser.add_argument(
+        "--layouts", choices=("scenario", "generated"), default="scenario",
+        help="scenario (default: the file's layout, its person varied) or generated (a new "
+        "layout per trial, drawn from the file's `layouts` ranges)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--scenario-dir", type=Path, help="each trial's scenario as it ran (trial_NNN.yaml)"
+    )
 
 
 def _add_openpose_parsers(commands) -> None:
@@ -153,18 +161,19 @@ def _output_path(path: Path | None, option: str, suffix: str) -> Path | None:
     return path
 
 
-def _replay_dir(path: Path | None) -> Path | None:
-    """Check --html-dir before anything runs: an existing writable directory, or one to make
-    in an existing writable directory (made only once every check has passed)."""
+def _output_dir(path: Path | None, option: str) -> Path | None:
+    """Check an output directory option before anything runs: an existing writable directory,
+    or one to make in an existing writable directory (made only once every check has
+    passed)."""
     if path is None:
         return None
     if path.exists() and not path.is_dir():
-        raise UsageError(f"--html-dir: expected a directory, {str(path)!r} is a file")
+        raise UsageError(f"{option}: expected a directory, {str(path)!r} is a file")
     existing = path if path.is_dir() else (path.parent if str(path.parent) else Path("."))
     if not existing.is_dir():
-        raise UsageError(f"--html-dir: expected an existing parent directory for {str(path)!r}")
+        raise UsageError(f"{option}: expected an existing parent directory for {str(path)!r}")
     if not os.access(existing, os.W_OK):
-        raise UsageError(f"--html-dir: expected a writable directory, {str(existing)!r} is not")
+        raise UsageError(f"{option}: expected a writable directory, {str(existing)!r} is not")
     return path
 
 
@@ -372,13 +381,15 @@ def _experiment(args: argparse.Namespace) -> int:
         "json": _output_path(args.json, "--json", ".json"),
         "plot": _output_path(args.plot, "--plot", ".png"),
     }
-    html_dir = _replay_dir(args.html_dir)
+    html_dir = _output_dir(args.html_dir, "--html-dir")
+    scenario_dir = _output_dir(args.scenario_dir, "--scenario-dir")
     run, summarise, report = _experiment_kind(args.experiment)
-    if html_dir is not None:
-        html_dir.mkdir(exist_ok=True)
+    for directory in (html_dir, scenario_dir):
+        if directory is not None:
+            directory.mkdir(exist_ok=True)
     experiment = run(
         scenario, args.trials, getattr(args, extra), args.seed, args.workers, args.ray_address,
-        TrialProgress(), html_dir,
+        TrialProgress(), html_dir, args.layouts, scenario_dir,
     )  # fmt: skip
     summary = summarise(experiment)
     writers = {

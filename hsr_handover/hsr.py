@@ -9,6 +9,7 @@ approximation (the default); IK and trajectory optimisation must add it themselv
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -67,6 +68,19 @@ def add_hsr(
     else:
         (instance,) = parser.AddModels(file_name=str(model_file))
     return instance
+
+
+@functools.cache
+def head_limits() -> tuple[tuple[float, float], tuple[float, float]]:
+    """The (lower, upper) position limits (rad) of HEAD_JOINTS in the bundled model."""
+    plant = MultibodyPlant(0.0)
+    add_hsr(plant, Parser(plant))
+    plant.Finalize()
+    pan, tilt = (plant.GetJointByName(name) for name in HEAD_JOINTS)
+    return tuple(
+        (float(joint.position_lower_limits()[0]), float(joint.position_upper_limits()[0]))
+        for joint in (pan, tilt)
+    )
 
 
 def actuated_joint_names(plant: MultibodyPlant, instance: ModelInstanceIndex) -> list[str]:

@@ -54,6 +54,7 @@ def _robot_scenario(session: RgbdSession) -> Scenario:
     scenario.camera.intrinsics = [camera.fx, camera.fy, camera.cx, camera.cy]
     scenario.perception.enabled, scenario.handover.enabled = True, False
     scenario.perception.attention, scenario.perception.skeleton_recording = [], None
+    scenario.perception.active_gaze = False  # a recording's head moved as it was recorded
     return scenario
 
 

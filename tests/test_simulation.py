@@ -17,7 +17,7 @@ from pydrake.systems.primitives import ConstantVectorSource
 from hsr_handover import interface
 from hsr_handover.hsr import COMMANDED_JOINTS
 from hsr_handover.robot import PERCEPTION_OUTPUTS, build_robot, ready_command
-from hsr_handover.robot.builder import WATCH_ONLY
+from hsr_handover.robot.builder import GAZE_OUTPUTS, WATCH_ONLY
 from hsr_handover.scenario import load_scenario
 from hsr_handover.simulation import build_simulation, connect_robot
 from hsr_handover.station import build_station
@@ -155,14 +155,15 @@ def test_robot_diagram_reads_sensors_and_commands_its_ready_posture():
     inputs = {diagram.get_input_port(i).get_name() for i in range(diagram.num_input_ports())}
     outputs = {diagram.get_output_port(i).get_name() for i in range(diagram.num_output_ports())}
     assert inputs <= set(interface.SENSORS) and "skeleton_keypoints" in inputs
-    assert outputs == set(interface.COMMANDS) | set(PERCEPTION_OUTPUTS)
+    assert outputs == set(interface.COMMANDS) | set(PERCEPTION_OUTPUTS) | set(GAZE_OUTPUTS)
     context = diagram.CreateDefaultContext()
     state = diagram.GetOutputPort(interface.HSR_DESIRED_STATE).Eval(context)
     expected, opening = ready_command(scenario)
     np.testing.assert_array_equal(state, expected)
     n = len(COMMANDED_JOINTS)
     tilt = COMMANDED_JOINTS.index("head_tilt_joint")
-    assert state[tilt] == scenario.robot.joints["head_tilt_joint"] and not state[n:].any()
+    assert state[tilt] == scenario.robot.joints.get("head_tilt_joint", 0.0)
+    assert not state[n:].any()
     assert diagram.GetOutputPort(interface.GRIPPER_DESIRED_OPENING).Eval(context)[0] == opening
 
 

@@ -11,6 +11,8 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from hsr_handover.experiments.layouts import layout_columns
+from hsr_handover.experiments.trial_classes import trial_classes
 from hsr_handover.experiments.trials import Progress, TrialOutcome, run_trials
 from hsr_handover.scenario import Scenario
 
@@ -25,18 +27,26 @@ class TrialExperiment:
     base: Scenario
     seed: int
     wall_s: float
+    layouts: str = "scenario"
 
     def rows(self) -> list[dict]:
-        """One row per trial: the trial's own result, or what it was and why it crashed."""
+        """One row per trial: the trial's own result, or what it was and why it crashed; each
+        with what `described` says of the trial."""
         return [
-            {"error": "", **outcome.result} if outcome.ok
-            else {**self.crashed_row(trial), "index": trial.index, "error": outcome.error}
+            {**self.described(trial), "error": "", **outcome.result} if outcome.ok
+            else {**self.described(trial), **self.crashed_row(trial), "index": trial.index,
+                  "error": outcome.error}
             for trial, outcome in zip(self.trials, self.outcomes, strict=True)
         ]  # fmt: skip
 
     def crashed_row(self, trial: Any) -> dict:
         """What a crashed trial's row says of it besides its index and error."""
         raise NotImplementedError
+
+    def described(self, trial: Any) -> dict:
+        """What every row says of its trial, ran or crashed: the classes of its layout
+        (`trial_classes`) and the layout drawn for it (`layout_*`, when generated)."""
+        return {**trial_classes(trial.scenario), **layout_columns(trial.layout)}
 
     @classmethod
     def run(
@@ -50,15 +60,20 @@ class TrialExperiment:
         ray_address: str | None,
         progress: Progress | None,
         html_dir: Path | None = None,
+        layouts: str = "scenario",
+        scenario_dir: Path | None = None,
     ):
-        """Make the trials (`make_trials(base, *counts, seed)`) and run them; with `html_dir`,
-        each trial writes its replay there (`replay_name`)."""
+        """Make the trials (`make_trials(base, *counts, seed, layouts=layouts)`) and run them;
+        with `html_dir`, each trial writes its replay there (`replay_name`), with
+        `scenario_dir` its scenario as it runs."""
         start = time.perf_counter()
-        specs = make_trials(base, *counts, seed)
+        specs = make_trials(base, *counts, seed, layouts=layouts)
         if html_dir is not None:
             specs = [dataclasses.replace(spec, replay_dir=str(html_dir)) for spec in specs]
+        if scenario_dir is not None:
+            specs = [dataclasses.replace(spec, scenario_dir=str(scenario_dir)) for spec in specs]
         outcomes = run_trials(run_trial, specs, workers, ray_address, progress)
-        return cls(specs, outcomes, base, seed, time.perf_counter() - start)
+        return cls(specs, outcomes, base, seed, time.perf_counter() - start, layouts)
 
 
 def rate(hits: int, count: int) -> float:

@@ -28,7 +28,9 @@ from hsr_handover.experiments.experiment import (
 )
 from hsr_handover.experiments.handover_scoring import DROPPED, HandoverScorer, TrialScore
 from hsr_handover.experiments.handover_trials import TIME_LIMIT_S, HandoverTrial, make_trials
+from hsr_handover.experiments.layouts import write_trial_scenario
 from hsr_handover.experiments.seating import sit_clear
+from hsr_handover.experiments.trial_classes import by_class
 from hsr_handover.experiments.trials import Progress
 from hsr_handover.handover.cycle import Cycle, Phase
 from hsr_handover.scenario import Scenario
@@ -62,6 +64,7 @@ def run_handover_trial(trial: HandoverTrial) -> dict:
 
     replay = replay_while_running(trial.replay_dir, trial.index)
     moved_back = sit_clear(trial.scenario)
+    write_trial_scenario(trial.scenario_dir, trial.index, trial.scenario)
     report = run_scenario(
         trial.scenario, replay, monitor_factory=scorer, after_cycle_s=TRIAL_AFTER_CYCLE_S
     )
@@ -197,12 +200,17 @@ def run_handover_experiment(
     ray_address: str | None = None,
     progress: Progress | None = None,
     html_dir: Path | None = None,
+    layouts: str = "scenario",
+    scenario_dir: Path | None = None,
 ) -> HandoverExperiment:
     """Make and run the trials; `summarise` turns the result into the table. With `html_dir`,
-    a replay of each trial is written there, named by trial and outcome."""
+    a replay of each trial is written there, named by trial and outcome; with `layouts`
+    "generated", each trial has a layout of its own (`layouts.generate_layout`), and with
+    `scenario_dir` each trial's scenario is written there as it ran."""
     counts = (trials, refusals)
     return HandoverExperiment.run(make_trials, run_handover_trial, base, counts, seed, workers,
-                                  ray_address, progress, html_dir)  # fmt: skip
+                                  ray_address, progress, html_dir, layouts,
+                                  scenario_dir)  # fmt: skip
 
 
 def _median(values: list[float]) -> float:
@@ -264,6 +272,7 @@ def summarise(experiment: HandoverExperiment) -> dict:
         ),
         "table_height_error_m": _most([row.get("table_height_error_m", math.nan) for row in ran]),
         "watched_raised": sum(row["watch_lift_m"] > 0 for row in ran),
+        "by_class": by_class(requests, lambda row: row["handed_over"]),
         "refusal_trials": len(refusals),
         "graceful_refusal_rate": rate(sum(row["graceful"] for row in refusals), len(refusals)),
         "time_limit_s": TIME_LIMIT_S,
@@ -273,6 +282,8 @@ def summarise(experiment: HandoverExperiment) -> dict:
             "variation": dataclasses.asdict(experiment.base.person.variation),
             "receiving": dataclasses.asdict(experiment.base.person.receiving),
         },
+        "layouts": experiment.layouts,
+        "active_gaze": experiment.base.perception.active_gaze,
         "seed": experiment.seed,
         "wall_s": experiment.wall_s,
     }

@@ -16,6 +16,7 @@ from hsr_handover.experiments.reporting import (  # noqa: E402
     format_value,
     write_rows,
 )
+from hsr_handover.experiments.trial_classes import class_columns, class_lines  # noqa: E402
 
 CSV_COLUMNS = (
     "index", "target", "arm", "takes", "reaction_s", "held_out", "recognised", "first_recognised",
@@ -31,7 +32,7 @@ CSV_COLUMNS = (
 
 def write_csv(rows: list[dict], path: Path) -> None:
     """One row per trial, crashed trials included with their reason."""
-    write_rows(rows, CSV_COLUMNS, path)
+    write_rows(rows, (*CSV_COLUMNS, *class_columns(rows)), path)
 
 
 def _percent(value: float) -> str:
@@ -72,6 +73,7 @@ def summary_lines(summary: dict) -> list[str]:
     if summary["refusal_trials"]:
         lines.append(f"refusals handled gracefully: {_percent(summary['graceful_refusal_rate'])} "
                      f"of {summary['refusal_trials']}")  # fmt: skip
+    lines += class_lines("requests", summary["by_class"], "handed over")
     lines += [f"  trial {c['index']} crashed: {c['error']}" for c in summary["crashed"]]
     lines.append(f"wall time {summary['wall_s']:.0f} s")
     return lines

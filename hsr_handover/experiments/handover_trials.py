@@ -10,12 +10,11 @@ the same trials wherever they run.
 
 from __future__ import annotations
 
-import copy
 import dataclasses
 
 import numpy as np
 
-from hsr_handover.experiments.intent_trials import script, vary_person
+from hsr_handover.experiments.intent_trials import script, trial_layout
 from hsr_handover.handover.look_round import LOOK_ROUND_S
 from hsr_handover.human.body import BodyDimensions, side_sign
 from hsr_handover.scenario import ActionConfig, Scenario
@@ -46,22 +45,26 @@ class HandoverTrial:
     hold_out: tuple[float, ...]
     scenario: Scenario
     replay_dir: str = ""
+    layout: dict = dataclasses.field(default_factory=dict)
+    scenario_dir: str = ""
 
 
-def make_trials(base: Scenario, trials: int, refusals: int, seed: int) -> list[HandoverTrial]:
+def make_trials(
+    base: Scenario, trials: int, refusals: int, seed: int, layouts: str = "scenario"
+) -> list[HandoverTrial]:
     """`trials` requests with targets cycling over the objects, then `refusals` more in which
-    the person never takes the object, each with its own seed and person drawn from `seed`."""
+    the person never takes the object, each with its own seed and person (and with `layouts`
+    "generated", its own layout) drawn from `seed`."""
     rng = np.random.default_rng(seed)
-    names = [obj.name for obj in base.objects]
     return [
-        _make_trial(base, index, names[index % len(names)], index < trials, rng)
-        for index in range(trials + refusals)
+        _make_trial(base, index, index < trials, rng, layouts) for index in range(trials + refusals)
     ]
 
 
-def _make_trial(base: Scenario, index: int, target: str, takes: bool, rng) -> HandoverTrial:
-    scenario = copy.deepcopy(base)
-    request = vary_person(scenario, rng)
+def _make_trial(base: Scenario, index: int, takes: bool, rng, layouts: str) -> HandoverTrial:
+    scenario, request, drawn = trial_layout(base, rng, layouts)
+    names = [obj.name for obj in scenario.objects]
+    target = names[index % len(names)]
     # The person asks once the robot has looked round the table, as it does on arriving:
     # requests made while its head swept past gave 4 wrong objects in 20 trials, against 2 for
     # the same people watched by a still head.
@@ -85,7 +88,7 @@ def _make_trial(base: Scenario, index: int, target: str, takes: bool, rng) -> Ha
     scenario.perception.attention = []
     scenario.camera.render_label = False  # ground truth nobody scores here
     return HandoverTrial(index, target, request.arm, request.pointing_onset, takes, reaction,
-                         hold_out, scenario)  # fmt: skip
+                         hold_out, scenario, layout=drawn)  # fmt: skip
 
 
 def _hold_out_point(scenario: Scenario, offset: np.ndarray) -> np.ndarray:

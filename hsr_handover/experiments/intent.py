@@ -25,7 +25,9 @@ from hsr_handover.experiments.experiment import (
 )
 from hsr_handover.experiments.intent_percepts import PerceptRecorder
 from hsr_handover.experiments.intent_trials import IntentTrial, make_trials, object_positions
+from hsr_handover.experiments.layouts import write_trial_scenario
 from hsr_handover.experiments.seating import sit_clear
+from hsr_handover.experiments.trial_classes import by_class
 from hsr_handover.experiments.trials import Progress
 from hsr_handover.literature import BREUER_POINTING_ERROR_DEG, BREUER_TARGETS_FOUND
 from hsr_handover.scenario import Scenario
@@ -50,6 +52,7 @@ def run_intent_trial(trial: IntentTrial) -> dict:
     monitor = recorder if trial.record_percepts else None
     replay = replay_while_running(trial.replay_dir, trial.index)
     moved_back = sit_clear(trial.scenario)
+    write_trial_scenario(trial.scenario_dir, trial.index, trial.scenario)
     report = run_scenario(trial.scenario, replay, monitor_factory=monitor)
     robot = report.simulation.robot.diagram
     intent = robot.GetOutputPort("intent").Eval(report.simulation.robot_context(report.context))
@@ -86,6 +89,10 @@ class IntentExperiment(TrialExperiment):
     def crashed_row(self, trial: IntentTrial) -> dict:
         return {"kind": trial.kind, "target": trial.target, "arm": trial.arm, "recognised": ""}
 
+    def described(self, trial: IntentTrial) -> dict:
+        """The target's side as the person sees it, besides the layout (`TrialExperiment`)."""
+        return {"position": trial.position, **super().described(trial)}
+
     def rows(self) -> list[dict]:
         return with_arm_aims(super().rows(), [trial.scenario for trial in self.trials])
 
@@ -99,12 +106,17 @@ def run_intent_experiment(
     ray_address: str | None = None,
     progress: Progress | None = None,
     html_dir: Path | None = None,
+    layouts: str = "scenario",
+    scenario_dir: Path | None = None,
 ) -> IntentExperiment:
     """Make and run the trials; `summarise` turns the result into the paper's table. With
-    `html_dir`, a replay of each trial is written there, named by trial and outcome."""
+    `html_dir`, a replay of each trial is written there, named by trial and outcome; with
+    `layouts` "generated", each trial has a layout of its own (`layouts.generate_layout`), and
+    with `scenario_dir` each trial's scenario is written there as it ran."""
     counts = (trials, distractors)
     return IntentExperiment.run(make_trials, run_intent_trial, base, counts, seed, workers,
-                                ray_address, progress, html_dir)  # fmt: skip
+                                ray_address, progress, html_dir, layouts,
+                                scenario_dir)  # fmt: skip
 
 
 def _arm_alone(requests: list[dict], success: list[bool]) -> dict:
@@ -139,6 +151,7 @@ def summarise(experiment: IntentExperiment) -> dict:
     distractors_run = [row for row in distractors if not row["error"]]
     sides = object_positions(experiment.base)
     names = [obj.name for obj in experiment.base.objects]
+    names += sorted({row["target"] for row in requests} - set(names))  # generated layouts'
     success = [row["recognised"] == row["target"] for row in requests]
     by_object = {
         name: rate(sum(s for r, s in zip(requests, success, strict=True) if r["target"] == name),
@@ -147,11 +160,12 @@ def summarise(experiment: IntentExperiment) -> dict:
     }  # fmt: skip
     by_position = {}
     for side in POSITIONS:
-        picked = [s for r, s in zip(requests, success, strict=True) if sides[r["target"]] == side]
+        picked = [s for r, s in zip(requests, success, strict=True) if r["position"] == side]
         by_position[side] = rate(sum(picked), len(picked))
     confusion = {name: dict.fromkeys([*names, "none"], 0) for name in names}
     for row in requests:
-        confusion[row["target"]][row["recognised"] or "none"] += 1
+        recognised = row["recognised"] or "none"
+        confusion[row["target"]][recognised] = confusion[row["target"]].get(recognised, 0) + 1
     latencies = [r["latency_s"] for r, s in zip(requests, success, strict=True) if s]
     failures = [{"index": row["index"], "error": row["error"]} for row in rows if row["error"]]
     return {
@@ -170,6 +184,11 @@ def summarise(experiment: IntentExperiment) -> dict:
             "median": float(np.median(latencies)) if latencies else math.nan,
             "p95": float(np.percentile(latencies, 95)) if latencies else math.nan,
         },
+        "by_class": by_class(requests, lambda row: row["recognised"] == row["target"]),
+        "false_triggers_by_class": by_class(distractors_run, lambda row: bool(row["recognised"])),
+        "requests_by_position": {
+            side: sum(r["position"] == side for r in requests) for side in POSITIONS
+        },
         "failed_trials": len(failures),
         "failures": failures,
         "arm_alone": _arm_alone(requests, success),
@@ -178,6 +197,8 @@ def summarise(experiment: IntentExperiment) -> dict:
             "variation": dataclasses.asdict(experiment.base.person.variation),
         },
         "intent_params": dataclasses.asdict(experiment.base.intent),
+        "layouts": experiment.layouts,
+        "active_gaze": experiment.base.perception.active_gaze,
         "seed": experiment.seed,
         "wall_s": experiment.wall_s,
     }

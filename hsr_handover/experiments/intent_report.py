@@ -17,6 +17,7 @@ from hsr_handover.experiments.reporting import (  # noqa: E402
     format_value,
     write_rows,
 )
+from hsr_handover.experiments.trial_classes import class_columns, class_lines  # noqa: E402
 
 CSV_COLUMNS = (
     "index", "kind", "target", "arm", "recognised", "latency_s", "recognised_time_s",
@@ -27,7 +28,7 @@ CSV_COLUMNS = (
 
 def write_csv(rows: list[dict], path: Path) -> None:
     """One row per trial, failed trials included with their reason."""
-    write_rows(rows, CSV_COLUMNS, path)
+    write_rows(rows, (*CSV_COLUMNS, *class_columns(rows)), path)
 
 
 def summary_lines(summary: dict) -> list[str]:
@@ -45,6 +46,8 @@ def summary_lines(summary: dict) -> list[str]:
         f"latency from pointing onset: median {format_value(latency['median'], '.2f', ' s')}, "
         f"p95 {format_value(latency['p95'], '.2f', ' s')}",
         _arm_alone_line(summary["arm_alone"]),
+        *class_lines("requests", summary["by_class"]),
+        *class_lines("distractors", summary["false_triggers_by_class"], "false triggers"),
         f"failed trials: {summary['failed_trials']}",
         *(f"  trial {f['index']}: {f['error']}" for f in summary["failures"]),
         f"wall time {summary['wall_s']:.0f} s",

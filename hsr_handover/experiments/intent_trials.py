@@ -14,8 +14,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from hsr_handover.experiments.layouts import generate_layout
 from hsr_handover.human.body import BodyDimensions
-from hsr_handover.scenario import ActionConfig, Scenario, object_center
+from hsr_handover.scenario import ActionConfig, Scenario, VariationConfig, object_center
 from hsr_handover.station import person_pose
 
 DISTRACTORS = ("gesture", "arm_on_table", "scratch_head", "look_only")
@@ -27,11 +28,18 @@ SETTLE_S = 1.0
 """s of simulation after the last scripted action ends, for a late recognition to land."""
 
 
+LAYOUTS = ("scenario", "generated")
+"""Where a trial's layout comes from: the scenario's own (its person varied,
+`person.variation`), or a new one drawn for each trial (`layouts.generate_layout`)."""
+
+
 @dataclasses.dataclass(frozen=True)
 class IntentTrial:
     """One trial, self-contained: its index, kind ("request" or one of DISTRACTORS), the object
-    asked for ("" on a distractor trial), the arm used, when the pointing starts, the whole
-    scenario to run (its seed included) and where to write its replay ("": none)."""
+    asked for ("" on a distractor trial) and its side as the person sees it ("" on a
+    distractor trial), the arm used, when the pointing starts, the whole scenario to run (its
+    seed included), the layout drawn for it (empty unless generated) and where to write its
+    replay and its scenario ("": none)."""
 
     index: int
     kind: str
@@ -41,6 +49,9 @@ class IntentTrial:
     scenario: Scenario
     record_percepts: bool = False
     replay_dir: str = ""
+    position: str = ""
+    layout: dict = dataclasses.field(default_factory=dict)
+    scenario_dir: str = ""
 
 
 def object_positions(scenario: Scenario) -> dict[str, str]:
@@ -56,15 +67,29 @@ def object_positions(scenario: Scenario) -> dict[str, str]:
     return sides
 
 
-def make_trials(base: Scenario, trials: int, distractors: int, seed: int) -> list[IntentTrial]:
+def make_trials(
+    base: Scenario, trials: int, distractors: int, seed: int, layouts: str = "scenario"
+) -> list[IntentTrial]:
     """`trials` requests with targets cycling over the objects, then `distractors` trials with no
-    request, each with its own seed and person drawn from `seed`."""
+    request, each with its own seed and person (and with `layouts` "generated", its own
+    layout) drawn from `seed`."""
     rng = np.random.default_rng(seed)
-    names = [obj.name for obj in base.objects]
-    kinds = [("request", names[i % len(names)]) for i in range(trials)]
-    kinds += [(DISTRACTORS[i % len(DISTRACTORS)], "") for i in range(distractors)]
-    return [_make_trial(base, index, kind, target, rng) for index, (kind, target) in
-            enumerate(kinds)]  # fmt: skip
+    kinds = ["request"] * trials + [DISTRACTORS[i % len(DISTRACTORS)] for i in range(distractors)]
+    return [_make_trial(base, index, kind, rng, layouts) for index, kind in enumerate(kinds)]
+
+
+def trial_layout(
+    base: Scenario, rng: np.random.Generator, layouts: str
+) -> tuple[Scenario, Request, dict]:
+    """One trial's scenario with its own seed, the person's request drawn, and the layout drawn
+    (empty unless `layouts` is "generated"; else the scenario's person is varied)."""
+    if layouts == "generated":
+        seed = int(rng.integers(0, 2**32 - 1))
+        scenario, drawn = generate_layout(base, rng)
+        scenario.simulation.seed = seed
+        return scenario, draw_request(scenario.person.variation, rng), drawn
+    scenario = copy.deepcopy(base)
+    return scenario, vary_person(scenario, rng), {}
 
 
 def _uniform(rng: np.random.Generator, span: Sequence[float]) -> float:
@@ -94,23 +119,33 @@ def vary_person(scenario: Scenario, rng: np.random.Generator) -> Request:
     person.height = float(np.clip(rng.normal(person.height, variation.height_sd), 1.45, 2.0))
     person.position = [float(v) for v in rng.normal(person.position, variation.position_sd)]
     person.yaw = float(person.yaw + math.radians(rng.normal(0.0, variation.yaw_sd_deg)))
+    return draw_request(variation, rng)
+
+
+def draw_request(variation: VariationConfig, rng: np.random.Generator) -> Request:
+    """How the person will ask: the arm and the request's timing, within `variation`."""
     arm = "left" if rng.random() < variation.left_arm_probability else "right"
     onset = _uniform(rng, variation.onset_s)
     lead = _uniform(rng, variation.look_lead_s)
     return Request(arm, onset, lead, _uniform(rng, variation.point_duration_s))
 
 
-def _make_trial(base: Scenario, index: int, kind: str, target: str, rng) -> IntentTrial:
-    scenario = copy.deepcopy(base)
-    request = vary_person(scenario, rng)
-    look_target = str(rng.choice([obj.name for obj in scenario.objects]))
+def _make_trial(base: Scenario, index: int, kind: str, rng, layouts: str) -> IntentTrial:
+    scenario, request, drawn = trial_layout(base, rng, layouts)
+    names = [obj.name for obj in scenario.objects]
+    target = names[index % len(names)] if kind == "request" else ""
+    look_target = str(rng.choice(names))
     scenario.person.behavior = script(scenario, kind, target or look_target, request)
     scenario.simulation.duration = request.pointing_onset + request.duration + SETTLE_S
     scenario.perception.enabled = True
     scenario.handover.enabled = False  # the robot watches; it does not act
     scenario.perception.attention = []
     scenario.camera.render_label = False  # ground truth nobody scores here
-    return IntentTrial(index, kind, target, request.arm, request.pointing_onset, scenario)
+    # The side as the person was placed, before this trial's variation of them.
+    placed = base if layouts == "scenario" else scenario
+    position = object_positions(placed)[target] if target else ""
+    return IntentTrial(index, kind, target, request.arm, request.pointing_onset, scenario,
+                       position=position, layout=drawn)  # fmt: skip
 
 
 def script(scenario: Scenario, kind: str, target: str, request: Request) -> list[ActionConfig]:

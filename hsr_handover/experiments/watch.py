@@ -10,8 +10,8 @@ from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import Context
 
 from hsr_handover.effectivity.person_map import HumanArm, receiving_arm
-from hsr_handover.handover.look_round import LOOK_AROUND_PANS, LOOK_DWELL_S
-from hsr_handover.hsr import COMMANDED_JOINTS
+from hsr_handover.handover.look_round import LOOK_AROUND_PANS, LOOK_DWELL_S, LOOK_ROUND_TILT
+from hsr_handover.hsr import COMMANDED_JOINTS, HEAD_JOINTS
 from hsr_handover.perception.facing import steady_facing
 from hsr_handover.perception.skeleton import Skeleton
 from hsr_handover.scenario import Scenario
@@ -57,7 +57,12 @@ def watch(
     LOOK_DWELL_S (so the table's ends come into view), then back, before the remaining time.
     With `replay`, the run is recorded in a Meshcat (`Watched.meshcat`; `replay.write_replay`
     writes it)."""
-    perception = dataclasses.replace(scenario.perception, enabled=True)
+    # The look round below commands the head itself.
+    perception = dataclasses.replace(
+        scenario.perception,
+        enabled=True,
+        active_gaze=scenario.perception.active_gaze and not look_around,
+    )
     handover = dataclasses.replace(scenario.handover, enabled=False)  # it watches, no more
     scenario = dataclasses.replace(scenario, perception=perception, handover=handover)
     simulation, meshcat = prepare_simulation(scenario, with_meshcat=replay)
@@ -71,17 +76,18 @@ def watch(
 
 def _look_around(simulation: Simulation, simulator: Simulator) -> tuple[Skeleton, ...]:
     """A stand-in for the supervisor's look round (issue 10): the ready posture's head pan
-    stepped through LOOK_AROUND_PANS, then back to where it was; the skeleton perceived at
-    the end of each stop."""
+    stepped through LOOK_AROUND_PANS with the head tilted to LOOK_ROUND_TILT, then back to
+    where it was; the skeleton perceived at the end of each stop."""
     posture = simulation.robot.diagram.GetSubsystemByName("ready_posture")
     context = posture.GetMyMutableContextFromRoot(simulator.get_mutable_context())
     command = posture.get_mutable_source_value(context)
-    pan = COMMANDED_JOINTS.index("head_pan_joint")
-    start = command.get_value()[pan]
+    pan, tilt = (COMMANDED_JOINTS.index(joint) for joint in HEAD_JOINTS)
+    start = tuple(command.get_value()[[pan, tilt]])
+    stops = [(angle, LOOK_ROUND_TILT) for angle in LOOK_AROUND_PANS]
     robot, glimpses = simulation.robot.diagram, []
-    for angle in (*LOOK_AROUND_PANS, start):
+    for head in (*stops, start):
         value = command.get_value().copy()
-        value[pan] = angle
+        value[[pan, tilt]] = head
         command.set_value(value)
         simulator.AdvanceTo(simulator.get_context().get_time() + LOOK_DWELL_S)
         robot_context = simulation.robot_context(simulator.get_context())

@@ -133,6 +133,10 @@ STILL_UP = 0.08
 fingers closed on nothing, to count it taken rather than dropped: a hand the robot's own arm
 hid from its camera drew it out (the reference run's trials 17 and 28: the wrist unseen for
 the whole presentation, the tug pointing down and away). Held out, it is 15-30 cm up."""
+SEEK_S = 1.5
+"""s the robot looks for the object asked for before it plans the grasp without having seen it
+since the request: the head's turn down from a standing person's face (0.6 rad at 0.8 rad/s)
+and a few decisions."""
 RETRY_EVERY_S = 1.0  # s between those tries
 FOLLOW_EVERY_S = 1.0  # s between tries to follow the hand (a hand out of reach fails each)
 WAIT_S = 12.0  # s the robot presents the object before it gives up (HandoverSim's 13 s limit)
@@ -290,6 +294,7 @@ class HandoverCycle:
         self._putting = ""  # putting back: "plan", "lower", "open", "leave"; "" otherwise
         self._came: list[np.ndarray] = []  # the way it carried the object it puts back
         self._next_target: str | None = None  # to fetch once the object lifted is back
+        self._seek_until: float | None = None  # until when it looks for the object asked for
         self.view = PlanView()  # what the plans so far show in the replay
 
     def __deepcopy__(self, memo: dict) -> HandoverCycle:
@@ -328,6 +333,14 @@ class HandoverCycle:
             return self._object_start
         return self._person
 
+    def seeing(self) -> str | None:
+        """The object asked for, while the robot has not seen it since (watching a standing
+        person's face, the table is below the camera's view): the head turns to where it was
+        last seen, and the grasp is planned once the camera shows it, or after SEEK_S without
+        (then the cycle goes on without the object's start to check the lift against)."""
+        watching = self.cycle.phase is Phase.WATCH and self.cycle.target is not None
+        return self.cycle.target if watching and self._object_start is None else None
+
     # Stepping ---------------------------------------------------------------------------------
 
     def wait_until(self, time: float) -> None:
@@ -353,6 +366,10 @@ class HandoverCycle:
         if p.time < self._retry_at:
             return
         self._object_start = self._object_start if p.object_seen is None else p.object_seen
+        if self._object_start is None:  # out of view: the head turns to it first (`seeing`)
+            self._seek_until = p.time + SEEK_S if self._seek_until is None else self._seek_until
+            if p.time < self._seek_until:
+                return
         planned = self._plan(self._planner.grasp(self.cycle.target, p.q), p)
         if planned is None:
             return
@@ -471,7 +488,7 @@ class HandoverCycle:
         `watch_from` (s), else once the retreat under way is over."""
         self.cycle.target, self._next_target, self._putting = self._next_target, None, ""
         self._held, self._lift_motion, self._turned = None, None, None
-        self._held_width, self._object_start = math.inf, None
+        self._held_width, self._object_start, self._seek_until = math.inf, None, None
         if watch_from is not None:
             self._enter(Phase.WATCH, watch_from)
 

@@ -6,6 +6,10 @@ from __future__ import annotations
 
 LOOK_AROUND_PANS = (0.7, -0.7)  # rad of head pan: the table's ends, each side in turn
 LOOK_DWELL_S = 0.9  # s at each: the pan's move (1 rad/s) and a few table fits (5 Hz)
+LOOK_ROUND_TILT = -0.3
+"""rad of head tilt while it looks round with an active gaze: from the head at its lowest
+(0.97 m) the view spans 6 to 40 degrees below level, a table top 0.6-0.85 m high from its near
+edge on (the ready posture's level head sees the near edge of a low table only from 0.9 m)."""
 LOOK_ROUND_S = LOOK_DWELL_S * (len(LOOK_AROUND_PANS) + 1)  # s, back where it began included
 
 

@@ -623,14 +623,15 @@ class IntentTracker:
     ) -> IntentState:
         """Judge the frame captured at `time` (s), its rays smoothed over the recent frames,
         and advance the dwell. `torso_forward` is the chest's facing in this frame (the
-        skeleton's; None or NaN when not seen). Once the target is recognised, the candidates
-        are every object seen so far, where last seen: the objects stay on the table while the
-        robot, fetching one, looks at the person."""
+        skeleton's; None or NaN when not seen). The candidates are every object seen so far,
+        where last seen: the objects stay on the table while the robot looks at the person
+        (a standing person's face and the table do not fit in the camera's view) or, fetching
+        one, at where it carries it."""
         self._objects = self._objects | {label: center for label, center in candidates}
         held = None  # the target where this frame shows it: once lifted, in the robot's hand
         if self.state_.target is not None:
             held = dict(candidates).get(self.state_.target)
-            candidates = list(self._objects.items())
+        candidates = list(self._objects.items())
         frame = _nothing_to_judge(confidence, candidates)
         observed = None
         if frame is None:

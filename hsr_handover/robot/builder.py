@@ -11,18 +11,28 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
-from pydrake.systems.framework import Diagram, DiagramBuilder
+from pydrake.systems.framework import Diagram, DiagramBuilder, LeafSystem
 from pydrake.systems.primitives import ConstantVectorSource
 
 from hsr_handover import interface
 from hsr_handover.effectivity.arm_map import load_or_build
-from hsr_handover.hsr import COMMANDED_JOINTS, FINGER_PER_OPENING, GRIPPER_JOINT
-from hsr_handover.robot.perception import PERCEPTION_OUTPUTS, add_perception
+from hsr_handover.hsr import (
+    COMMANDED_JOINTS,
+    FINGER_PER_OPENING,
+    GRIPPER_JOINT,
+    HEAD_JOINTS,
+    head_limits,
+)
+from hsr_handover.perception.active_gaze import FieldOfView
+from hsr_handover.robot.perception import PERCEPTION_OUTPUTS, SensorInputs, add_perception
 from hsr_handover.scenario import Scenario, robot_start_positions
+from hsr_handover.systems.gaze_controller import GazeController
 from hsr_handover.systems.handover_supervisor import HandoverSupervisor
+from hsr_handover.systems.posture_with_gaze import PostureWithGaze
 from hsr_handover.systems.watching import WATCHING
 
 HANDOVER_OUTPUTS = ("cycle", "plan_view")  # the supervisor's, exported when handover is on
+GAZE_OUTPUTS = ("gaze",)  # the GazeController's, exported with perception.active_gaze
 WATCH_ONLY = ("point_cloud_gng", "intent_estimator")
 """The perception systems whose work serves only the watch for a request (`systems.watching`)."""
 
@@ -43,7 +53,9 @@ def ready_command(scenario: Scenario) -> tuple[np.ndarray, float]:
     return np.concatenate([q, np.zeros_like(q)]), start.get(GRIPPER_JOINT, 0.0) / FINGER_PER_OPENING
 
 
-def _feed_supervisor(builder: DiagramBuilder, supervisor: HandoverSupervisor) -> None:
+def _feed_supervisor(
+    builder: DiagramBuilder, inputs: SensorInputs, supervisor: HandoverSupervisor
+) -> None:
     """The supervisor reads the joint and wrist sensors (exported inputs, shared with
     perception when it reads them) and the perception systems' outputs."""
     for sensor in (
@@ -51,7 +63,7 @@ def _feed_supervisor(builder: DiagramBuilder, supervisor: HandoverSupervisor) ->
         interface.GRIPPER_OPENING_MEASURED,
         interface.HSR_WRIST_WRENCH_MEASURED,
     ):
-        builder.ExportInput(supervisor.GetInputPort(sensor), sensor)
+        inputs.feed(sensor, supervisor.GetInputPort(sensor))
     for port, system, output in (
         ("intent", "intent_estimator", "intent"),
         ("perceived_scene", "perceived_scene_estimator", "scene"),
@@ -66,26 +78,56 @@ def _feed_supervisor(builder: DiagramBuilder, supervisor: HandoverSupervisor) ->
         builder.Connect(supervisor.GetOutputPort(WATCHING), watching)
 
 
+def _add_gaze(builder: DiagramBuilder, inputs: SensorInputs, scenario: Scenario) -> LeafSystem:
+    """The GazeController, fed the lifted skeleton and the detections, the camera's pose and
+    the joint sensors; it starts from the start posture's head."""
+    start = robot_start_positions(scenario)
+    view = FieldOfView.of(scenario.camera.pinhole())
+    head = tuple(start.get(joint, 0.0) for joint in HEAD_JOINTS)
+    gaze = builder.AddNamedSystem("gaze_controller", GazeController(view, head_limits(), head))
+    for name, system, output in (("skeleton", "skeleton_lifter", "skeleton"),
+                                 ("detections", "object_detector", "detections")):  # fmt: skip
+        builder.Connect(builder.GetSubsystemByName(system).GetOutputPort(output),
+                        gaze.GetInputPort(name))  # fmt: skip
+    inputs.feed(interface.CAMERA_POSE, gaze.GetInputPort("camera_pose"))
+    inputs.feed(interface.HSR_STATE_MEASURED, gaze.GetInputPort(interface.HSR_STATE_MEASURED))
+    (name,) = GAZE_OUTPUTS
+    builder.ExportOutput(gaze.GetOutputPort(name), name)
+    return gaze
+
+
 def build_robot(scenario: Scenario) -> Robot:
     """The robot's diagram from the scenario's robot, camera and perception settings."""
     builder = DiagramBuilder()
     state, opening = ready_command(scenario)
     outputs: tuple[str, ...] = ()
+    gaze = None
     if scenario.perception.enabled:
-        add_perception(builder, scenario)
+        inputs = add_perception(builder, scenario)
         outputs = PERCEPTION_OUTPUTS
+        if scenario.perception.active_gaze:
+            gaze = _add_gaze(builder, inputs, scenario)
+            outputs += GAZE_OUTPUTS
     if scenario.handover.enabled:
         supervisor = builder.AddNamedSystem(
             "handover_supervisor",
             # The intent's params were checked with the perception's.
             HandoverSupervisor(load_or_build()[0], state, opening, scenario.intent.params()),
         )
-        _feed_supervisor(builder, supervisor)
+        _feed_supervisor(builder, inputs, supervisor)
+        if gaze is not None:
+            builder.Connect(gaze.GetOutputPort("head_command"),
+                            supervisor.GetInputPort("head_command"))  # fmt: skip
         commands = (supervisor.GetOutputPort(interface.HSR_DESIRED_STATE),
                     supervisor.GetOutputPort(interface.GRIPPER_DESIRED_OPENING))  # fmt: skip
         for name in HANDOVER_OUTPUTS:
             builder.ExportOutput(supervisor.GetOutputPort(name), name)
         outputs += HANDOVER_OUTPUTS
+    elif gaze is not None:
+        posture = builder.AddNamedSystem("ready_posture", PostureWithGaze(state))
+        builder.Connect(gaze.GetOutputPort("head_command"), posture.GetInputPort("head_command"))
+        gripper = builder.AddNamedSystem("ready_gripper", ConstantVectorSource([opening]))
+        commands = (posture.get_output_port(), gripper.get_output_port())
     else:
         posture = builder.AddNamedSystem("ready_posture", ConstantVectorSource(state))
         gripper = builder.AddNamedSystem("ready_gripper", ConstantVectorSource([opening]))

@@ -59,7 +59,7 @@ def _gng_params(scenario: Scenario) -> dict:
     return params
 
 
-class _SensorInputs:
+class SensorInputs:
     """Exports each station sensor the robot reads as one diagram input, fanned out to every
     system that reads it."""
 
@@ -75,7 +75,7 @@ class _SensorInputs:
             self._exported.add(sensor)
 
 
-def _add_cloud(builder: DiagramBuilder, inputs: _SensorInputs, scenario: Scenario) -> LeafSystem:
+def _add_cloud(builder: DiagramBuilder, inputs: SensorInputs, scenario: Scenario) -> LeafSystem:
     width, height = scenario.perception.cloud_size
     downsampler = builder.AddNamedSystem("depth_downsampler", DepthDownsampler(width, height))
     inputs.feed(interface.CAMERA_DEPTH_IMAGE, downsampler.get_input_port())
@@ -90,7 +90,7 @@ def _add_cloud(builder: DiagramBuilder, inputs: _SensorInputs, scenario: Scenari
 
 
 def _add_detectors(
-    builder: DiagramBuilder, inputs: _SensorInputs, scenario: Scenario
+    builder: DiagramBuilder, inputs: SensorInputs, scenario: Scenario
 ) -> tuple[LeafSystem, LeafSystem]:
     """The object detector and the skeleton lifter, on the full-size images."""
     camera = scenario.camera.pinhole()
@@ -104,7 +104,7 @@ def _add_detectors(
     return detector, lifter
 
 
-def _add_intent(builder: DiagramBuilder, inputs: _SensorInputs, scenario: Scenario) -> LeafSystem:
+def _add_intent(builder: DiagramBuilder, inputs: SensorInputs, scenario: Scenario) -> LeafSystem:
     try:
         params = scenario.intent.params()
     except ValueError as error:
@@ -116,11 +116,12 @@ def _add_intent(builder: DiagramBuilder, inputs: _SensorInputs, scenario: Scenar
     return intent
 
 
-def add_perception(builder: DiagramBuilder, scenario: Scenario) -> None:
+def add_perception(builder: DiagramBuilder, scenario: Scenario) -> SensorInputs:
     """Add the perception systems to the robot's builder; export the sensor inputs they read
-    (named as the station's outputs) and PERCEPTION_OUTPUTS."""
+    (named as the station's outputs) and PERCEPTION_OUTPUTS. Returns the exported inputs, for
+    the systems added later to read the same sensors."""
     perception, seed = scenario.perception, scenario.simulation.seed
-    inputs = _SensorInputs(builder)
+    inputs = SensorInputs(builder)
     to_cloud = _add_cloud(builder, inputs, scenario)
     detector, lifter = _add_detectors(builder, inputs, scenario)
 
@@ -181,3 +182,4 @@ def add_perception(builder: DiagramBuilder, scenario: Scenario) -> None:
     }
     for name, port in exports.items():
         builder.ExportOutput(port, name)
+    return inputs

@@ -41,7 +41,7 @@ from hsr_handover.human.behavior import ACTIONS, REACHES
 from hsr_handover.perception.attention import FOCUS_KINDS
 from hsr_handover.perception.object_colors import OBJECT_COLORS
 from hsr_handover.perception.openpose_format import KEYPOINT_SCALES, MODEL_CHOICES
-from hsr_handover.scenario.schema import ObjectConfig, Scenario, ScenarioError
+from hsr_handover.scenario.schema import LayoutsConfig, ObjectConfig, Scenario, ScenarioError
 from hsr_handover.scenario.typed_yaml import describe
 from hsr_handover.scene.object_models import OBJECT_SHAPES, object_height
 
@@ -118,6 +118,7 @@ def check_scenario(scenario: Scenario) -> None:
     _check_variation(scenario, fail)
     _check_perception(scenario, fail)
     _check_intent(scenario, fail)
+    _check_layouts(scenario, fail)
     if scenario.handover.enabled and not scenario.perception.enabled:
         fail("handover.enabled", "perception.enabled: true as well (the robot acts on percepts)")
 
@@ -434,6 +435,21 @@ def _check_variation(scenario: Scenario, fail: Fail) -> None:
     for name in ("left_arm_probability", "hold_out_probability"):
         _number(fail, f"{key}.{name}", getattr(variation, name), Interval(0, 1))
     _number(fail, f"{key}.hold_out_sd", variation.hold_out_sd, Interval(0, 0.2, "m"))
+
+
+def _check_layouts(scenario: Scenario, fail: Fail) -> None:
+    """Each range [low, high] inside the default's (a scenario may only narrow them)."""
+    layouts, defaults = scenario.layouts, LayoutsConfig()
+    for name in ("standing_probability", "staggered_probability"):
+        _number(fail, f"layouts.{name}", getattr(layouts, name), Interval(0, 1))
+    for spec in dataclasses.fields(LayoutsConfig):
+        span, default = getattr(layouts, spec.name), getattr(defaults, spec.name)
+        if not isinstance(default, list):
+            continue
+        outer = Interval(*default, integer=isinstance(default[0], int))
+        _numbers(fail, f"layouts.{spec.name}", span, outer, "[low, high]")
+        if span[0] > span[1]:
+            fail(f"layouts.{spec.name}", f"expected low <= high, got {span}")
 
 
 def _check_perception(scenario: Scenario, fail: Fail) -> None:

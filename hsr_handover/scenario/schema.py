@@ -42,8 +42,9 @@ class ScenarioError(ValueError):
 class RobotConfig:
     """The HSR: model URL (package:// or a path relative to the scenario file), base pose on the
     floor [x, y, yaw] and the start posture by joint name. The file's joints are merged over the
-    default posture (the hand tucked forward, the head tilted to see the table and the person);
-    joints named nowhere start at 0.
+    HSR's default posture (the arm upright, the hand tucked forward, the head level); joints
+    named nowhere start at 0. With `perception.active_gaze` the robot turns its head itself to
+    find the person, so no scenario needs to set the head.
 
     Ranges: model names an SDF or URDF file with the HSR's joints and head camera frame;
     base_pose x, y in [-20, 20] m, yaw in [-2pi, 2pi] rad; each joint value in [-2pi, 2pi]
@@ -55,7 +56,6 @@ class RobotConfig:
         default_factory=lambda: {
             "arm_flex_joint": 0.0,
             "wrist_flex_joint": -1.57,
-            "head_tilt_joint": -0.1,
         }
     )
 
@@ -303,7 +303,10 @@ class PerceptionConfig:
     `signals_per_frame` signals per camera frame; attended regions are sampled `attention_weight`
     times more often. The skeleton sensor adds `pixel_sigma` pixels of noise and drops each
     face keypoint with `face_drop_probability`; with `skeleton_recording`, it plays a recording
-    of OpenPose's output instead (SkeletonRecordingConfig).
+    of OpenPose's output instead (SkeletonRecordingConfig). With `active_gaze` the robot turns
+    its head to find the person and keep their face, hands and the objects in view
+    (`hsr_handover.perception.active_gaze`); off, the head holds the start posture (the
+    baseline the active gaze is measured against).
 
     Ranges: cloud_size integers each in [8, 1024] px; workspace each in [-20, 20] m, each lower
     bound below its upper; signals_per_frame an integer in [1, 1e6]; attention_weight in
@@ -319,6 +322,7 @@ class PerceptionConfig:
     pixel_sigma: float = 2.0
     face_drop_probability: float = 0.1
     skeleton_recording: SkeletonRecordingConfig | None = None
+    active_gaze: bool = True
 
 
 @dataclasses.dataclass
@@ -390,6 +394,39 @@ class SimulationConfig:
 
 
 @dataclasses.dataclass
+class LayoutsConfig:
+    """The ranges `--layouts generated` draws each experiment trial's layout from (uniformly,
+    each [low, high]; `hsr_handover.experiments.layouts`). The table stands with its near edge
+    0.55 m before the robot's nominal base; the person across it, `person_back` m beyond its
+    far edge (the point below the hips), `person_along` m to the side of the table's axis,
+    turned `facing_deg` off facing it, seated or (with `standing_probability`) standing;
+    3-6 cups and boxes in distinct detector colours, in a row across the table or staggered
+    (`staggered_probability`), `object_spacing` m apart; the robot's base moved by
+    `base_offset` m along each axis and turned by `base_yaw` rad.
+
+    Ranges: a scenario may only narrow them: each [low, high] with low <= high inside the
+    defaults (person_height [1.5, 1.95] m, person_back [0.3, 0.6] m, person_along
+    [-0.35, 0.35] m, facing_deg [-25, 25] deg, table_height [0.6, 0.85] m, table_depth
+    [0.5, 0.8] m, table_width [0.8, 1.4] m, object_count [3, 6] integers, object_spacing
+    [0.15, 0.3] m, base_offset [-0.2, 0.2] m, base_yaw [-0.4, 0.4] rad); the probabilities in
+    [0, 1]."""
+
+    standing_probability: float = 0.5
+    person_height: list[float] = field(default_factory=lambda: [1.50, 1.95])
+    person_back: list[float] = field(default_factory=lambda: [0.30, 0.60])
+    person_along: list[float] = field(default_factory=lambda: [-0.35, 0.35])
+    facing_deg: list[float] = field(default_factory=lambda: [-25.0, 25.0])
+    table_height: list[float] = field(default_factory=lambda: [0.60, 0.85])
+    table_depth: list[float] = field(default_factory=lambda: [0.50, 0.80])
+    table_width: list[float] = field(default_factory=lambda: [0.80, 1.40])
+    object_count: list[int] = field(default_factory=lambda: [3, 6])
+    object_spacing: list[float] = field(default_factory=lambda: [0.15, 0.30])
+    staggered_probability: float = 0.5
+    base_offset: list[float] = field(default_factory=lambda: [-0.2, 0.2])
+    base_yaw: list[float] = field(default_factory=lambda: [-0.4, 0.4])
+
+
+@dataclasses.dataclass
 class Scenario:
     """A whole scenario file: one mapping of these sections, each optional (defaults above)."""
 
@@ -402,6 +439,7 @@ class Scenario:
     intent: IntentConfig = field(default_factory=IntentConfig)
     handover: HandoverConfig = field(default_factory=HandoverConfig)
     simulation: SimulationConfig = field(default_factory=SimulationConfig)
+    layouts: LayoutsConfig = field(default_factory=LayoutsConfig)
     # Where the scenario came from, for error messages and relative model paths; set by the
     # loader, never read from YAML (the schema walk treats it as an unknown key).
     source: str = field(default="<scenario>", metadata={YAML_KEY: False})

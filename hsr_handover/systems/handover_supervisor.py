@@ -37,6 +37,7 @@ from hsr_handover.handover.look_round import (
     LOOK_AROUND_PANS,
     LOOK_DWELL_S,
     LOOK_ROUND_S,
+    LOOK_ROUND_TILT,
     look_round_pan,
 )
 from hsr_handover.handover.perceived_planner import PerceivedPlanner, pads_centre
@@ -135,6 +136,8 @@ class HandoverSupervisor(LeafSystem):
         self._scene = self.DeclareAbstractInputPort("perceived_scene", AbstractValue.Make(object()))
         self._skeleton = self.DeclareAbstractInputPort("skeleton", AbstractValue.Make(object()))
         self._detections = self.DeclareAbstractInputPort("detections", AbstractValue.Make(object()))
+        # Optional: the GazeController's move; unconnected, the head holds the ready posture's.
+        self._gaze = self.DeclareVectorInputPort("head_command", 4)
         memory = _Memory(HandoverCycle(self._planner))
         self._memory = self.DeclareAbstractState(AbstractValue.Make(memory))
         # Evaluated at each plant step: streamed at 100 Hz instead (a discrete state), the
@@ -173,7 +176,21 @@ class HandoverSupervisor(LeafSystem):
         percepts = self._percepts(context, skeleton, arm, memory)
         memory.cycle.step(percepts)
         point = memory.cycle.gaze()
+        if point is None:
+            point = self._target_unseen(memory)
         memory.head = None if point is None else look_at(self._robot, percepts.q, point)
+
+    def _target_unseen(self, memory: _Memory) -> np.ndarray | None:
+        """Where the object asked for was last seen, while the cycle waits to see it before it
+        plans its grasp (`HandoverCycle.seeing`); else None."""
+        label = memory.cycle.seeing()
+        if label is None or memory.scene is None:
+            return None
+        shapes = [shape for shape in memory.scene.objects if shape.label == label]
+        if not shapes:
+            return None
+        shape = shapes[0]
+        return np.array([*shape.center, shape.bottom + 0.5 * shape.height])
 
     def _correction(self, context: Context, skeleton, memory: _Memory) -> str | None:
         """Another object the person asks for while the robot lifts or carries one (None
@@ -266,14 +283,19 @@ class HandoverSupervisor(LeafSystem):
         q, v, _ = memory.cycle.command(time)
         if q is None:
             command = self._resting(memory, time)
-            if memory.cycle.cycle.phase is Phase.WATCH:
-                command[PAN] = look_round_pan(time, self._ready[PAN])
         else:
             command = np.concatenate([q[self._rows], v[self._rows]])
+        n = len(COMMANDED_JOINTS)
         if memory.head is not None:
-            n = len(COMMANDED_JOINTS)
-            command[[PAN, TILT]] = memory.head
-            command[[n + PAN, n + TILT]] = 0.0
+            command[[PAN, TILT, n + PAN, n + TILT]] = [*memory.head, 0.0, 0.0]
+        elif time < LOOK_ROUND_S:
+            command[[PAN, n + PAN]] = look_round_pan(time, self._ready[PAN]), 0.0
+            if self._gaze.HasValue(context):  # the table, whatever its height
+                command[[TILT, n + TILT]] = LOOK_ROUND_TILT, 0.0
+        elif self._gaze.HasValue(context):
+            command[[PAN, TILT, n + PAN, n + TILT]] = self._gaze.Eval(context)
+        elif q is None and memory.cycle.cycle.phase is Phase.WATCH:
+            command[PAN] = self._ready[PAN]
         output.SetFromVector(command)
 
     def _resting(self, memory: _Memory, time: float) -> np.ndarray:

@@ -9,12 +9,12 @@ from pydrake.systems.analysis import Simulator
 
 from hsr_handover.effectivity.arm_map import load_or_build
 from hsr_handover.effectivity.person_map import receiving_arm
-from hsr_handover.handover.cycle import PATIENCE_S, Failure, Phase
+from hsr_handover.handover.cycle import PATIENCE_S, SEEK_S, Failure, Phase
 from hsr_handover.handover.look_round import LOOK_AROUND_PANS, LOOK_DWELL_S, LOOK_ROUND_S
 from hsr_handover.hsr import COMMANDED_JOINTS
 from hsr_handover.intent import IntentParams, IntentState
 from hsr_handover.perception.coco18 import keypoint_index
-from hsr_handover.perception.object_detection import DetectionResult
+from hsr_handover.perception.object_detection import Detection, DetectionResult
 from hsr_handover.perception.object_shapes import BOX, ObjectShape
 from hsr_handover.perception.skeleton import Skeleton
 from hsr_handover.planning.perceived_scene import PerceivedScene
@@ -73,7 +73,8 @@ def test_it_looks_round_the_table_then_holds_the_ready_posture(supervisor):
 def test_a_request_for_an_object_it_never_perceived_fails_as_unreachable(supervisor):
     system, context, ready = supervisor
     system.GetInputPort("intent").FixValue(context, IntentState(target="purple"))
-    Simulator(system, context).AdvanceTo(LOOK_ROUND_S + PATIENCE_S + 1.0)
+    # It looks for the object for SEEK_S, then plans for PATIENCE_S.
+    Simulator(system, context).AdvanceTo(LOOK_ROUND_S + SEEK_S + PATIENCE_S + 1.0)
     cycle = system.GetOutputPort("cycle").Eval(context)
     assert cycle.phase is Phase.FAILED and cycle.failure is Failure.UNREACHABLE
     assert cycle.target == "purple" and "purple" in cycle.reason
@@ -213,6 +214,10 @@ def test_a_request_recognised_while_it_rises_is_planned_for_once_it_has_risen(su
     assert raised is not None and raised.end > context.get_time() + 0.3  # still rising
     recognised = context.get_time() + 0.1
     system.GetInputPort("intent").FixValue(context, IntentState(target="yellow"))
+    (yellow,) = [shape for shape in _boxes(0.86) if shape.label == "yellow"]
+    seen = Detection("yellow", "yellow", (0, 0, 1, 1), (0.5, 0.5),
+                     np.array([*yellow.center, yellow.bottom + 0.05]), 40)  # fmt: skip
+    system.GetInputPort("detections").FixValue(context, DetectionResult((seen,), "ok"))
     _watched_from(system, context, _boxes(0.86), until=raised.end - 0.05)
     cycle = system.GetOutputPort("cycle").Eval(context)
     assert cycle.target == "yellow"
