@@ -122,6 +122,20 @@ def test_a_replay_folder_that_is_a_file_or_has_no_parent_is_a_one_line_error(cap
     assert not (tmp_path / "no").exists()
 
 
+def test_bad_layout_options_are_one_line_errors_before_any_trial(capsys, tmp_path):
+    scenario = str(SCENARIOS / "intent_reference.yaml")
+    with pytest.raises(SystemExit) as raised:
+        main(["experiment", "intent", scenario, "--layouts", "random"])
+    error = capsys.readouterr().err.strip()
+    assert raised.value.code == 2 and "--layouts" in error and "'generated'" in error
+    afile = tmp_path / "layouts"
+    afile.write_text("")
+    code = main(["experiment", "intent", scenario, "--layouts", "generated",
+                 "--scenario-dir", str(afile)])  # fmt: skip
+    error = capsys.readouterr().err.strip()
+    assert code == 2 and error.startswith("error: --scenario-dir:") and "is a file" in error
+
+
 def test_replay_names_say_the_trial_and_its_outcome():
     assert replay_name(7, "person contact") == "trial_007_person-contact.html"
     assert replay_name(12, "Wrong object!") == "trial_012_wrong-object.html"

@@ -64,6 +64,16 @@ def test_nothing_overlaps_at_the_start_once_the_person_sits_clear():
         assert initial_overlaps(build_station(scenario)) == []
 
 
+@pytest.mark.parametrize("yaw", [-0.4, 0.4])
+def test_the_robot_moved_and_turned_its_most_toward_a_table_at_hand_height_is_clear(yaw):
+    base = load_scenario(BASE)
+    base.layouts.base_offset, base.layouts.base_yaw = [0.2, 0.2], [yaw, yaw]
+    base.layouts.table_height = [0.66, 0.70]  # the tucked hand's height
+    scenario, _ = generate_layout(base, np.random.default_rng(4))
+    overlaps = initial_overlaps(build_station(scenario))
+    assert [o for o in overlaps if o.key == "robot.base_pose"] == []
+
+
 def test_the_same_seed_gives_the_same_trials_and_another_seed_others():
     base = load_scenario(BASE)
     first = make_trials(base, 4, 2, seed=5, layouts="generated")
@@ -103,3 +113,24 @@ def test_a_trial_layout_written_out_loads_back_the_same(tmp_path):
     loaded.source = scenario.source
     assert dataclasses.asdict(loaded) == dataclasses.asdict(scenario)
     assert path.read_text().startswith("# a generated layout\n")
+
+
+def test_a_generated_trial_runs_with_its_layout_in_its_row_and_written_beside(tmp_path):
+    from hsr_handover.experiments.intent import run_intent_experiment, summarise
+
+    base = load_scenario(BASE)
+    experiment = run_intent_experiment(
+        base, 1, 0, seed=2, workers=1, layouts="generated", scenario_dir=tmp_path
+    )
+    (row,) = experiment.rows()
+    (trial,) = experiment.trials
+    assert row["error"] == ""
+    assert row["class_posture"] == trial.scenario.person.posture
+    assert row["layout_table_height_m"] == pytest.approx(trial.scenario.table.height)
+    written = load_scenario(tmp_path / "trial_000.yaml")
+    assert [obj.name for obj in written.objects] == [obj.name for obj in trial.scenario.objects]
+    assert written.person.behavior == trial.scenario.person.behavior
+    summary = summarise(experiment)
+    assert summary["layouts"] == "generated" and summary["trials"] == 1
+    (posture,) = summary["by_class"]["posture"].values()
+    assert posture["trials"] == 1
