@@ -6,6 +6,7 @@ triggers), its breakdown by class and its wall time; `--json` keeps the four sum
 
     python benchmarks/bench_active_perception.py [--requests 120] [--distractors 40]
         [--handovers 60] [--baseline-share 1.0] [--seed 1] [--workers 2] [--json OUT.json]
+        [--only active|baseline]
 
 `--baseline-share` runs that share of each count with the head still (a fraction saves time:
 the baseline's shortfall shows on fewer trials).
@@ -67,6 +68,9 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--workers", type=int)
     parser.add_argument("--json", type=Path)
+    parser.add_argument(
+        "--only", choices=("active", "baseline"), help="run one side alone (default: both)"
+    )
     args = parser.parse_args()
     runs = {}
     for name, run, active, share in (
@@ -75,7 +79,8 @@ def main() -> None:
         ("handover, active gaze", _handover, True, 1.0),
         ("handover, head still (baseline)", _handover, False, args.baseline_share),
     ):
-        if round(share * (args.requests if run is _intent else args.handovers)) == 0:
+        skipped = args.only is not None and (args.only == "active") != active
+        if skipped or round(share * (args.requests if run is _intent else args.handovers)) == 0:
             continue
         start = time.perf_counter()
         print(name)

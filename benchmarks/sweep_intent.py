@@ -5,7 +5,8 @@ Prints success, false triggers and latency for every setting, the defaults' row 
 default is the measured best, not a guess.
 
     python benchmarks/sweep_intent.py [--trials 30] [--distractors 10] [--seed 5] [--workers 2]
-        [--scenario scenarios/intent_reference.yaml] [--save percepts.pkl | --load percepts.pkl]
+        [--scenario scenarios/intent_reference.yaml] [--layouts scenario|generated]
+        [--save percepts.pkl | --load percepts.pkl]
 """
 
 from __future__ import annotations
@@ -44,7 +45,7 @@ def record(args: argparse.Namespace):
     base = load_scenario(args.scenario)
     trials = [
         dataclasses.replace(trial, record_percepts=True)
-        for trial in make_trials(base, args.trials, args.distractors, args.seed)
+        for trial in make_trials(base, args.trials, args.distractors, args.seed, args.layouts)
     ]
     start = time.perf_counter()
     outcomes = run_trials(run_intent_trial, trials, args.workers, progress=TrialProgress())
@@ -54,11 +55,11 @@ def record(args: argparse.Namespace):
 
 def score(base, trials, outcomes, params: IntentParams) -> dict:
     """Success over requests, false triggers over distractors, latency from pointing onset."""
-    names = {obj.color: obj.name for obj in base.objects}
     hits, requests, triggers, distractors, latencies = 0, 0, 0, 0, []
     for trial, outcome in zip(trials, outcomes, strict=True):
         if not outcome.ok:
             continue
+        names = {obj.color: obj.name for obj in trial.scenario.objects}
         state = replay_intent(outcome.result["percepts"], params)
         recognised = names.get(state.target, "") if state.target else ""
         if trial.kind == "request":
@@ -82,6 +83,7 @@ def main() -> None:
     parser.add_argument("--distractors", type=int, default=10)
     parser.add_argument("--seed", type=int, default=5)
     parser.add_argument("--workers", type=int)
+    parser.add_argument("--layouts", choices=("scenario", "generated"), default="scenario")
     parser.add_argument("--save", type=Path, help="keep the recorded percepts here")
     parser.add_argument("--load", type=Path, help="sweep percepts recorded before")
     args = parser.parse_args()

@@ -3,7 +3,9 @@
 Inputs, all percepts: `hsr_state_measured` and `gripper_opening_measured` (the joint sensors),
 `hsr_wrist_wrench_measured` (the wrist's force-torque sensor),
 `intent` (the IntentEstimator's state), `perceived_scene`, `skeleton` (lifted) and
-`detections`. Every TICK_S it looks round first (the head panned to the table's ends), then
+`detections`, and optionally `head_command` (the GazeController's: the head is its after the
+look round whenever the cycle looks at nothing in particular; unconnected, the head holds the
+ready posture's). Every TICK_S it looks round first (the head panned to the table's ends), then
 steps the `HandoverCycle` on what it perceives; the cycle plans through a `PerceivedPlanner`.
 Once it has seen the person's shoulders and the objects, it raises its torso if the objects
 would hide a pointing arm from its camera (`watch_view`), and watches from there.
@@ -294,8 +296,6 @@ class HandoverSupervisor(LeafSystem):
                 command[[TILT, n + TILT]] = LOOK_ROUND_TILT, 0.0
         elif self._gaze.HasValue(context):
             command[[PAN, TILT, n + PAN, n + TILT]] = self._gaze.Eval(context)
-        elif q is None and memory.cycle.cycle.phase is Phase.WATCH:
-            command[PAN] = self._ready[PAN]
         output.SetFromVector(command)
 
     def _resting(self, memory: _Memory, time: float) -> np.ndarray:

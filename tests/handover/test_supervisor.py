@@ -10,7 +10,12 @@ from pydrake.systems.analysis import Simulator
 from hsr_handover.effectivity.arm_map import load_or_build
 from hsr_handover.effectivity.person_map import receiving_arm
 from hsr_handover.handover.cycle import PATIENCE_S, SEEK_S, Failure, Phase
-from hsr_handover.handover.look_round import LOOK_AROUND_PANS, LOOK_DWELL_S, LOOK_ROUND_S
+from hsr_handover.handover.look_round import (
+    LOOK_AROUND_PANS,
+    LOOK_DWELL_S,
+    LOOK_ROUND_S,
+    LOOK_ROUND_TILT,
+)
 from hsr_handover.hsr import COMMANDED_JOINTS
 from hsr_handover.intent import IntentParams, IntentState
 from hsr_handover.perception.coco18 import keypoint_index
@@ -224,4 +229,42 @@ def test_a_request_recognised_while_it_rises_is_planned_for_once_it_has_risen(su
     assert cycle.recognised_time == pytest.approx(recognised, abs=0.11)
     assert cycle.planning_s == 0.0 and cycle.phase is Phase.WATCH
     _watched_from(system, context, _boxes(0.86), until=raised.end + 0.25)
+    assert system.GetOutputPort("cycle").Eval(context).planning_s > 0.0
+
+
+def test_with_a_gaze_it_looks_round_low_then_follows_the_gaze(supervisor):
+    system, context, _ = supervisor
+    tilt = COMMANDED_JOINTS.index("head_tilt_joint")
+    n = len(COMMANDED_JOINTS)
+    gaze = np.array([0.3, 0.25, 0.1, -0.2])  # pan, tilt and their rates
+    system.GetInputPort("head_command").FixValue(context, gaze)
+    simulator = Simulator(system, context)
+    simulator.AdvanceTo(0.5 * LOOK_DWELL_S)
+    command = _command(system, context)
+    assert command[PAN] == LOOK_AROUND_PANS[0] and command[tilt] == LOOK_ROUND_TILT
+    simulator.AdvanceTo(LOOK_ROUND_S + 0.5)
+    command = _command(system, context)
+    np.testing.assert_allclose(command[[PAN, tilt, n + PAN, n + tilt]], gaze)
+
+
+def test_a_request_for_an_object_out_of_view_turns_the_head_to_where_it_was_seen(supervisor):
+    """Watching a standing face, the table is below the view: the head turns to the object
+    asked for before the grasp is planned, and plans once the camera shows it."""
+    system, context, _ = supervisor
+    system.GetInputPort("head_command").FixValue(context, np.array([0.0, 0.4, 0.0, 0.0]))
+    objects = _boxes(0.72)
+    system.GetInputPort("perceived_scene").FixValue(context, PerceivedScene(None, objects))
+    simulator = Simulator(system, context)
+    simulator.AdvanceTo(LOOK_ROUND_S + 0.05)
+    system.GetInputPort("intent").FixValue(context, IntentState(target="yellow"))
+    simulator.AdvanceTo(LOOK_ROUND_S + 0.55)
+    tilt = COMMANDED_JOINTS.index("head_tilt_joint")
+    assert _command(system, context)[tilt] < -0.15  # 12 degrees down to the box, not the 0.4 up
+    cycle = system.GetOutputPort("cycle").Eval(context)
+    assert cycle.target == "yellow" and cycle.planning_s == 0.0  # not planned unseen
+    (yellow,) = [shape for shape in objects if shape.label == "yellow"]
+    seen = Detection("yellow", "yellow", (0, 0, 1, 1), (0.5, 0.5),
+                     np.array([*yellow.center, yellow.bottom + 0.06]), 40)  # fmt: skip
+    system.GetInputPort("detections").FixValue(context, DetectionResult((seen,), "ok"))
+    simulator.AdvanceTo(LOOK_ROUND_S + 0.85)
     assert system.GetOutputPort("cycle").Eval(context).planning_s > 0.0
