@@ -160,6 +160,9 @@ def test_the_head_moves_at_its_speed_on_a_straight_line_and_holds_at_the_goal():
     turned = move.toward(1.5, (0.0, 0.0))
     assert turned.start == pytest.approx((0.4, -0.2)) and turned.start_time == 1.5
     assert move.toward(2.0, (0.8, -0.4)) is move
+    assert move.toward(2.0, (0.8, -0.4), measured=(0.79, -0.4)) is move  # following it
+    taken = move.toward(2.0, (0.8, -0.4), measured=(-0.5, 0.2))  # commanded elsewhere meanwhile
+    assert taken.start == (-0.5, 0.2) and taken.start_time == 2.0
 
 
 def test_out_of_range_params_are_refused_by_name():

@@ -162,7 +162,21 @@ def test_seated_hands_rest_over_a_table_higher_than_the_resting_forearms():
     unchanged = [i for i in range(len(PERSON_JOINTS)) if PERSON_JOINTS[i][2:] != "elbow"]
     np.testing.assert_array_equal(high[unchanged], level[unchanged])
     standing = BodyDimensions.from_height(1.70, seated=False)  # hands hang beside the body
-    np.testing.assert_array_equal(rest_posture(standing, 1.2), rest_posture(standing))
+    np.testing.assert_array_equal(rest_posture(standing, 0.5), rest_posture(standing))
+
+
+def test_standing_hands_under_a_table_top_rest_over_it_instead():
+    """Swung out from hanging under a high table's top, a short person's hand met its edge
+    from below and stayed jammed there through the gesture."""
+    standing = BodyDimensions.from_height(1.50, seated=False)
+    hanging = rest_posture(standing)
+    tips = min(_hand_bottom(standing, hanging, arm) for arm in ("right", "left"))
+    assert tips < 0.85  # the hands hang below a 0.85 m top
+    raised = rest_posture(standing, 0.85)
+    for arm in ("right", "left"):
+        assert _hand_bottom(standing, raised, arm) >= 0.85 + OVER_TABLE
+    changes = posture_changes(standing, [], 0.85)
+    np.testing.assert_array_equal(changes[0][1], raised)  # the script starts from there
 
 
 def test_at_a_high_table_the_script_starts_returns_to_and_keeps_the_raised_rest():

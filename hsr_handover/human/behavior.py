@@ -95,17 +95,28 @@ def rest_posture(body: BodyDimensions, table_top: float | None = None) -> np.nda
     front of the body (as on armrests), above table height: every joint-space move from there
     to a pointing or reaching arm then keeps the hand above the table top rather than sweeping
     it under the table's edge. At a table whose top (`table_top`, m, person frame; None: no
-    table) is higher than that, the seated person's hands rest OVER_TABLE over it."""
+    table) is higher than that, the seated person's hands rest OVER_TABLE over it, and so do a
+    standing person's whose hanging hands are below it: swung out from hanging, a 1.50 m
+    person's hand met the edge of a 0.85 m table from below and stayed jammed under it for the
+    whole gesture (130 N; generated layouts), as no one's does."""
     q = np.zeros(len(PERSON_JOINTS))
     q[_INDEX["neck_pitch"]] = 0.2
     for prefix, sign in (("r_", -1.0), ("l_", 1.0)):
         q[_INDEX[prefix + "shoulder_roll"]] = 0.08 * sign
         q[_INDEX[prefix + "shoulder_pitch"]] = -0.25 if body.seated else 0.0
         q[_INDEX[prefix + "elbow"]] = -1.5 if body.seated else -0.15
-    if body.seated and table_top is not None:
+    if table_top is not None and (body.seated or _hands_under(body, q, table_top)):
         for arm in ("right", "left"):
             _raise_hand_over(body, arm, q, table_top + OVER_TABLE)
     return q
+
+
+def _hands_under(body: BodyDimensions, q: np.ndarray, table_top: float) -> bool:
+    """Whether the hands hang, in posture `q`, below the table's top (m, person frame)."""
+    tips = (
+        arm_points(body, arm, q[arm_joint_indices(arm)])["tips"][2] for arm in ("right", "left")
+    )
+    return min(tips) < table_top
 
 
 def _raise_hand_over(body: BodyDimensions, arm: str, q: np.ndarray, height: float) -> None:

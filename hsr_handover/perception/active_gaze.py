@@ -285,6 +285,11 @@ def _to_joints(
     return head[0] + wrap(aim[0] - heading), head[1] + (aim[1] - elevation)
 
 
+TAKEN_OVER = 0.1
+"""rad between the head's commanded and measured angles beyond which something else commands
+the head (the PD-driven head lags a moving command by under 0.01 rad)."""
+
+
 @dataclasses.dataclass(frozen=True)
 class HeadMove:
     """The head's command from (pan, tilt) `start` at `start_time` (s) to `goal` along a
@@ -306,9 +311,16 @@ class HeadMove:
         elapsed = max(elapsed, 0.0)
         return start + span * (elapsed / duration), span / duration
 
-    def toward(self, time: float, goal: tuple[float, float]) -> HeadMove:
-        """A move to `goal` from where this one commands the head at `time`."""
-        if tuple(goal) == tuple(self.goal):
-            return self
+    def toward(
+        self, time: float, goal: tuple[float, float], measured: tuple[float, float] | None = None
+    ) -> HeadMove:
+        """A move to `goal` from where this one commands the head at `time`, or from where the
+        head is `measured` when that is more than TAKEN_OVER rad off it (something else
+        commanded the head meanwhile: the handover supervisor's look round or its look at an
+        object), so the head is not stepped back to a command it never followed."""
         here = self.at(time)[0]
+        if measured is not None and np.max(np.abs(here - np.asarray(measured))) > TAKEN_OVER:
+            here = np.asarray(measured, dtype=float)
+        elif tuple(goal) == tuple(self.goal):
+            return self
         return HeadMove(time, (float(here[0]), float(here[1])), goal, self.speed)

@@ -81,7 +81,7 @@ class GazeController(LeafSystem):
         )  # fmt: skip
         if decided.goal is not None:
             move = context.get_abstract_state(self._move).get_value()
-            updated = move.toward(context.get_time(), decided.goal)
+            updated = move.toward(context.get_time(), decided.goal, (head[0], head[1]))
             state.get_mutable_abstract_state(self._move).set_value(updated)
 
     def _calc_command(self, context: Context, output: BasicVector) -> None:
