@@ -83,19 +83,20 @@ class GazeParams:
     speed: float = 0.8
 
     def __post_init__(self) -> None:
+        fixations_ok = bool(self.search) and all(
+            len(f) == 2 and all(abs(a) <= math.pi for a in f) for f in self.search
+        )
         checks = {
-            "search": bool(self.search) and all(
-                len(f) == 2 and all(abs(a) <= math.pi for a in f) for f in self.search
-            ),
-            "dwell_s": 0 <= self.dwell_s <= 10, "margin_deg": 0 <= self.margin_deg <= 20,
-            "lost_s": 0 < self.lost_s <= 60, "deadband_deg": 0 <= self.deadband_deg <= 10,
-            "speed": 0 < self.speed <= 1,
-        }  # fmt: skip
-        for name, ok in checks.items():
+            "search": (fixations_ok, "a non-empty list of (pan, tilt) each in [-pi, pi] rad"),
+            "dwell_s": (0 <= self.dwell_s <= 10, "[0, 10] s"),
+            "margin_deg": (0 <= self.margin_deg <= 20, "[0, 20] deg"),
+            "lost_s": (0 < self.lost_s <= 60, "(0, 60] s"),
+            "deadband_deg": (0 <= self.deadband_deg <= 10, "[0, 10] deg"),
+            "speed": (0 < self.speed <= 1, "(0, 1] rad/s"),
+        }
+        for name, (ok, expected) in checks.items():
             if not ok:
-                raise ValueError(
-                    f"{name}: out of range (see GazeParams), got {getattr(self, name)}"
-                )
+                raise ValueError(f"{name}: expected {expected}, got {getattr(self, name)}")
 
 
 @dataclasses.dataclass(frozen=True)
