@@ -170,3 +170,21 @@ def test_out_of_range_params_are_refused_by_name():
         GazeParams(speed=2.0)
     with pytest.raises(ValueError, match="search"):
         GazeParams(search=())
+
+
+def test_what_attention_selects_is_fixated_as_near_as_the_person_allows():
+    person = {name: point - [0.0, 0.0, 0.55] for name, point in standing_person(1.7).items()}
+    cup = np.array([0.8, 0.3, 0.77])
+    head = (0.0, 0.0)
+    framed = ActiveGaze(VIEW, LIMITS).update(
+        0.0, camera_rotation(*head), CAMERA, head, *skeleton(person), [("red", cup)]
+    )
+    fixated = ActiveGaze(VIEW, LIMITS).update(
+        0.0, camera_rotation(*head), CAMERA, head, *skeleton(person), [("red", cup)], [cup]
+    )
+    heading, elevation = angles(CAMERA, cup)
+    # Turned toward the cup (nearer its bearing and elevation), the face still in view.
+    assert abs(fixated.goal[0] - heading) < abs(framed.goal[0] - heading)
+    assert abs(fixated.goal[1] - elevation) <= abs(framed.goal[1] - elevation)
+    assert in_view(*fixated.goal, person["r_eye"])
+    assert fit([0.0, 0.1], 0.2, toward=0.25) == pytest.approx(0.2)  # as near as the rest allows

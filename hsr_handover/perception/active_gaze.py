@@ -7,7 +7,9 @@ Two modes, decided from the lifted skeleton alone:
 - **Searching**: no person seen. The head visits `GazeParams.search` (pan, tilt) in turn, each
   long enough for the move and a few frames, and begins again.
 - **Framing**: a person seen. The head aims the camera so its field of view holds, in this
-  order, the person's face, their hands and the objects on the table (where last seen: they
+  order, what attention selects (the face, the hand or an object: paper 3.2; fixated, the
+  axis as near it as the rest allows), the person's face, their hands and the objects on the
+  table (where last seen: they
   stay put while the camera looks away). Each wants the optical axis within an interval of
   heading and elevation; the intervals are intersected in that order, one that would leave
   nothing is dropped, and the axis goes to the middle of what is left (`fit`). A standing
@@ -163,10 +165,11 @@ def face_estimate(points: np.ndarray, confidence: np.ndarray) -> np.ndarray | No
     return np.array([points[index][0], points[index][1], top])
 
 
-def fit(wanted: Sequence[float], half: float) -> float | None:
-    """The middle of the angles that keep the most of `wanted` (angles, in their order of
-    priority) within `half` of the axis: each narrows the interval left, and one that would
-    leave nothing is dropped. None when nothing is wanted."""
+def fit(wanted: Sequence[float], half: float, toward: float | None = None) -> float | None:
+    """Of the angles that keep the most of `wanted` (angles, in their order of priority) within
+    `half` of the axis (each narrows the interval left, and one that would leave nothing is
+    dropped), the middle, or the nearest to `toward` when given (a fixation). None when
+    nothing is wanted."""
     low, high = -math.inf, math.inf
     for value in wanted:
         new_low, new_high = max(low, value - half), min(high, value + half)
@@ -174,7 +177,7 @@ def fit(wanted: Sequence[float], half: float) -> float | None:
             low, high = new_low, new_high
     if not math.isfinite(low):
         return None
-    return 0.5 * (low + high)
+    return 0.5 * (low + high) if toward is None else float(np.clip(toward, low, high))
 
 
 class ActiveGaze:
@@ -202,10 +205,12 @@ class ActiveGaze:
         points: np.ndarray,
         confidence: np.ndarray,
         detections: Sequence[tuple[str, np.ndarray]] = (),
+        attended: Sequence[np.ndarray] = (),
     ) -> GazeState:
         """One frame: the camera's pose (3 x 3 rotation, z the optical axis; position, m) at its
         capture, the head's measured (pan, tilt), the lifted skeleton (18 x 3 points, 18
-        confidences) and the objects detected (label, centre). Returns the new state."""
+        confidences), the objects detected (label, centre) and the centres of the regions
+        attention selects (m, world; framed before all else). Returns the new state."""
         state = self.state_
         seen = {label: np.asarray(c, dtype=float) for label, c in state.objects}
         seen |= {label: np.asarray(c, dtype=float) for label, c in detections
@@ -213,7 +218,7 @@ class ActiveGaze:
         state = dataclasses.replace(state, objects=tuple(seen.items()))
         face = face_estimate(points, confidence) if person_seen(points, confidence) else None
         if face is not None:
-            aim = self._frame(camera_position, face, points, confidence, state.objects)
+            aim = self._frame(camera_position, face, points, confidence, state.objects, attended)
             goal = self._within_limits(_to_joints(aim, camera_rotation, head))
             found = time if math.isnan(state.found_at) else state.found_at
             state = dataclasses.replace(state, mode=FRAMING, seen_at=time, found_at=found,
@@ -232,20 +237,24 @@ class ActiveGaze:
         points: np.ndarray,
         confidence: np.ndarray,
         objects: Sequence[tuple[str, np.ndarray]],
+        attended: Sequence[np.ndarray] = (),
     ) -> tuple[float, float]:
-        """The optical axis's (heading, elevation) that frames the face, then the hands, then
-        the objects (nearest the face's heading first)."""
+        """The optical axis's (heading, elevation) that frames what attention selects, then the
+        face, then the hands, then the objects (nearest the face's heading first)."""
         margin = math.radians(self.params.margin_deg)
-        targets = [angles(camera, face)]
+        targets = [angles(camera, center) for center in attended] + [angles(camera, face)]
         targets += [angles(camera, points[i]) for i in WRISTS if _seen(points, confidence, i)]
+        face_heading = targets[len(attended)][0]
         by_heading = sorted((angles(camera, c) for _, c in objects),
-                            key=lambda a: abs(wrap(a[0] - targets[0][0])))  # fmt: skip
+                            key=lambda a: abs(wrap(a[0] - face_heading)))  # fmt: skip
         targets += by_heading
         # Headings are unwrapped about the face's, so the interval arithmetic is on a line.
         headings = [targets[0][0] + wrap(h - targets[0][0]) for h, _ in targets]
         elevations = [e for _, e in targets]
-        heading = fit(headings, max(self.view.half_width - margin, 0.0))
-        elevation = fit(elevations, max(self.view.half_height - margin, 0.0))
+        # What attention selects is fixated: the axis as near it as the rest allows.
+        fixation = (headings[0], elevations[0]) if attended else (None, None)
+        heading = fit(headings, max(self.view.half_width - margin, 0.0), fixation[0])
+        elevation = fit(elevations, max(self.view.half_height - margin, 0.0), fixation[1])
         return float(heading), float(elevation)
 
     def _settled(

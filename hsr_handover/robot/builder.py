@@ -79,8 +79,8 @@ def _feed_supervisor(
 
 
 def _add_gaze(builder: DiagramBuilder, inputs: SensorInputs, scenario: Scenario) -> LeafSystem:
-    """The GazeController, fed the lifted skeleton and the detections, the camera's pose and
-    the joint sensors; it starts from the start posture's head."""
+    """The GazeController, fed the lifted skeleton, the detections and what attention selects,
+    the camera's pose and the joint sensors; it starts from the start posture's head."""
     start = robot_start_positions(scenario)
     view = FieldOfView.of(scenario.camera.pinhole())
     head = tuple(start.get(joint, 0.0) for joint in HEAD_JOINTS)
@@ -89,6 +89,8 @@ def _add_gaze(builder: DiagramBuilder, inputs: SensorInputs, scenario: Scenario)
                                  ("detections", "object_detector", "detections")):  # fmt: skip
         builder.Connect(builder.GetSubsystemByName(system).GetOutputPort(output),
                         gaze.GetInputPort(name))  # fmt: skip
+    attention = builder.GetSubsystemByName("attention_focus").GetOutputPort("attention")
+    builder.Connect(attention, gaze.GetInputPort("attention"))
     inputs.feed(interface.CAMERA_POSE, gaze.GetInputPort("camera_pose"))
     inputs.feed(interface.HSR_STATE_MEASURED, gaze.GetInputPort(interface.HSR_STATE_MEASURED))
     (name,) = GAZE_OUTPUTS

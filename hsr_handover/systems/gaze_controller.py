@@ -27,9 +27,10 @@ HEAD_ROWS = [COMMANDED_JOINTS.index(joint) for joint in HEAD_JOINTS]
 
 class GazeController(LeafSystem):
     """Inputs: `skeleton` (Skeleton, lifted), `detections` (DetectionResult), `camera_pose`
-    (RigidTransform X_WC of the frame they come from) and `hsr_state_measured` ([q; v] of
-    COMMANDED_JOINTS). Outputs: `head_command` ([pan, tilt, pan rate, tilt rate]: the move
-    to the gaze's goal, evaluated at every step) and `gaze` (GazeState).
+    (RigidTransform X_WC of the frame they come from), `hsr_state_measured` ([q; v] of
+    COMMANDED_JOINTS) and optionally `attention` (AttentionFocus's regions, fixated first).
+    Outputs: `head_command` ([pan, tilt, pan rate, tilt rate]: the move to the gaze's goal,
+    evaluated at every step) and `gaze` (GazeState).
 
     Every GAZE_PERIOD_S it decides where to look from the latest frame (`ActiveGaze`); before
     its first decision it holds `start_head`."""
@@ -54,6 +55,8 @@ class GazeController(LeafSystem):
             "camera_pose", AbstractValue.Make(RigidTransform())
         )
         self._state = self.DeclareVectorInputPort("hsr_state_measured", 2 * n)
+        # Optional: AttentionFocus's regions, fixated first; unconnected, none.
+        self._attention = self.DeclareAbstractInputPort("attention", AbstractValue.Make(()))
         start = (float(start_head[0]), float(start_head[1]))
         self._gaze = self.DeclareAbstractState(AbstractValue.Make(ActiveGaze(view, limits, params)))
         self._move = self.DeclareAbstractState(
@@ -75,9 +78,13 @@ class GazeController(LeafSystem):
         pose = self._pose.Eval(context)
         head = self._state.Eval(context)[HEAD_ROWS]
         detections = [(d.label, d.center) for d in self._detections.Eval(context).detections]
+        attended = ()
+        if self._attention.HasValue(context):
+            attended = [region.center for region in self._attention.Eval(context)]
         decided = gaze.update(
             context.get_time(), pose.rotation().matrix(), pose.translation(),
             (float(head[0]), float(head[1])), skeleton.points, skeleton.confidence, detections,
+            attended,
         )  # fmt: skip
         if decided.goal is not None:
             move = context.get_abstract_state(self._move).get_value()
