@@ -134,3 +134,8 @@ def test_a_generated_trial_runs_with_its_layout_in_its_row_and_written_beside(tm
     assert summary["layouts"] == "generated" and summary["trials"] == 1
     (posture,) = summary["by_class"]["posture"].values()
     assert posture["trials"] == 1
+
+
+def test_an_unknown_layout_source_is_refused_by_name():
+    with pytest.raises(ValueError, match="layouts: expected one of"):
+        make_trials(load_scenario(BASE), 1, 0, seed=0, layouts="random")

@@ -83,6 +83,8 @@ def trial_layout(
 ) -> tuple[Scenario, Request, dict]:
     """One trial's scenario with its own seed, the person's request drawn, and the layout drawn
     (empty unless `layouts` is "generated"; else the scenario's person is varied)."""
+    if layouts not in LAYOUTS:
+        raise ValueError(f"layouts: expected one of {LAYOUTS}, got {layouts!r}")
     if layouts == "generated":
         seed = int(rng.integers(0, 2**32 - 1))
         scenario, drawn = generate_layout(base, rng)

@@ -1,8 +1,9 @@
 """Build the robot: what runs on the HSR, as a Diagram of its own (DESIGN §2).
 
 Its inputs are named after the station's sensor outputs and its outputs after the station's
-command inputs (`hsr_handover.interface`), so the two connect by name. Today it perceives
-(when `perception.enabled`) and holds its ready posture, or (when `handover.enabled`) runs the
+command inputs (`hsr_handover.interface`), so the two connect by name. It perceives (when
+`perception.enabled`), turning its head to find and frame the person (`GazeController`, with
+`perception.active_gaze`), and holds its ready posture, or (when `handover.enabled`) runs the
 perceiving-acting cycle: the HandoverSupervisor commands the HSR from its percepts.
 """
 
