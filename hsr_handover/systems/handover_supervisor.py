@@ -188,11 +188,8 @@ class HandoverSupervisor(LeafSystem):
         label = memory.cycle.seeing()
         if label is None or memory.scene is None:
             return None
-        shapes = [shape for shape in memory.scene.objects if shape.label == label]
-        if not shapes:
-            return None
-        shape = shapes[0]
-        return np.array([*shape.center, shape.bottom + 0.5 * shape.height])
+        shapes = [shape.centroid for shape in memory.scene.objects if shape.label == label]
+        return shapes[0] if shapes else None
 
     def _correction(self, context: Context, skeleton, memory: _Memory) -> str | None:
         """Another object the person asks for while the robot lifts or carries one (None
