@@ -9,6 +9,7 @@ import pytest
 
 from hsr_handover.perception.active_gaze import (
     FRAMING,
+    POINTED_AHEAD,
     SEARCH,
     ActiveGaze,
     FieldOfView,
@@ -17,6 +18,7 @@ from hsr_handover.perception.active_gaze import (
     angles,
     face_estimate,
     fit,
+    pointed_at,
 )
 from hsr_handover.perception.coco18 import NUM_KEYPOINTS, keypoint_index
 
@@ -188,3 +190,45 @@ def test_what_attention_selects_is_fixated_as_near_as_the_person_allows():
     assert abs(fixated.goal[1] - elevation) <= abs(framed.goal[1] - elevation)
     assert in_view(*fixated.goal, person["r_eye"])
     assert fit([0.0, 0.1], 0.2, toward=0.25) == pytest.approx(0.2)  # as near as the rest allows
+
+
+def _seated_pointing_at(target: np.ndarray) -> dict:
+    """A seated person 1.7 m ahead, the right arm held out toward `target` (its wrist 0.45 m
+    out from the shoulder, lifted 3 cm low as on the hand's surface)."""
+    person = {name: point - [0.0, 0.0, 0.55] for name, point in standing_person(1.7).items()}
+    shoulder = person["r_shoulder"]
+    toward = (target - shoulder) / np.linalg.norm(target - shoulder)
+    person["r_wrist"] = shoulder + 0.5 * toward - [0.0, 0.0, 0.03]
+    return person
+
+
+def test_the_point_an_arm_points_at_lies_ahead_of_the_wrist_on_its_heading():
+    target = np.array([0.85, -0.6, 0.77])
+    person = _seated_pointing_at(target)
+    pointed = pointed_at(*skeleton(person), 0.77)
+    assert pointed[2] == 0.77
+    wrist, shoulder = person["r_wrist"], person["r_shoulder"]
+    assert np.linalg.norm(pointed[:2] - wrist[:2]) == pytest.approx(POINTED_AHEAD)
+    heading, ahead = (wrist - shoulder)[:2], pointed[:2] - wrist[:2]
+    assert heading[0] * ahead[1] - heading[1] * ahead[0] == pytest.approx(0.0, abs=1e-9)
+    assert heading @ ahead > 0.0
+    resting = {**person, "r_wrist": shoulder + [-0.2, 0.0, -0.25]}  # forearm on the table
+    assert pointed_at(*skeleton(resting), 0.77) is None
+    assert pointed_at(*skeleton(person), 1.5) is None  # the wrist is not over that level
+
+
+def test_an_object_out_of_view_comes_into_view_once_the_person_points_toward_it():
+    gaze = ActiveGaze(VIEW, LIMITS)
+    cups = [("red", np.array([0.8, 0.0, 0.77])), ("blue", np.array([0.8, 0.25, 0.77]))]
+    hidden = np.array([0.8, -0.6, 0.77])  # never seen yet: 37 degrees to the right
+    person = _seated_pointing_at(hidden)
+    head = (0.0, 0.0)
+    assert not in_view(*head, hidden)
+    for step in range(3):
+        state = gaze.update(0.1 * step, camera_rotation(*head), CAMERA, head,
+                            *skeleton(person), cups)  # fmt: skip
+        head = state.goal
+    assert in_view(*head, hidden) and in_view(*head, person["r_eye"])
+    resting = {**person, "r_wrist": person["r_shoulder"] + [-0.2, 0.0, -0.25]}
+    still = gaze.update(1.0, camera_rotation(*head), CAMERA, head, *skeleton(resting), cups)
+    assert not in_view(*still.goal, hidden)  # no pointing: the seen cups and the face

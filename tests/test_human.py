@@ -150,16 +150,22 @@ def _hand_bottom(body: BodyDimensions, q: np.ndarray, arm: str) -> float:
     return min(points["wrist"][2], points["tips"][2]) - HAND_THICKNESS / 2
 
 
-def test_seated_hands_rest_over_a_table_higher_than_the_resting_forearms():
+def test_seated_hands_and_elbows_rest_over_a_table_higher_than_the_resting_forearms():
+    """An elbow under the top with the hand over it jams the forearm against the table's edge
+    from below as the arm swings up to point."""
     level = rest_posture(BODY)
     np.testing.assert_array_equal(rest_posture(BODY, 0.62), level)  # a low table changes nothing
     low = min(_hand_bottom(BODY, level, arm) for arm in ("right", "left"))
-    high = rest_posture(BODY, low + 0.05)
+    top = low + 0.05
+    high = rest_posture(BODY, top)
     for arm in ("right", "left"):
-        assert _hand_bottom(BODY, high, arm) >= low + 0.05 + OVER_TABLE
-        elbow = arm_joint_indices(arm)[3]
-        assert high[elbow] < level[elbow]  # raised by bending the elbow, the shoulder as it was
-    unchanged = [i for i in range(len(PERSON_JOINTS)) if PERSON_JOINTS[i][2:] != "elbow"]
+        joints = arm_joint_indices(arm)
+        assert _hand_bottom(BODY, high, arm) >= top + OVER_TABLE
+        assert arm_points(BODY, arm, level[joints])["elbow"][2] < top  # under it at rest ...
+        assert arm_points(BODY, arm, high[joints])["elbow"][2] >= top + OVER_TABLE  # ... now over
+        assert high[joints[0]] < level[joints[0]]  # the upper arm forward
+    arm_joints = {"shoulder_pitch", "elbow"}
+    unchanged = [i for i, name in enumerate(PERSON_JOINTS) if name[2:] not in arm_joints]
     np.testing.assert_array_equal(high[unchanged], level[unchanged])
     standing = BodyDimensions.from_height(1.70, seated=False)  # hands hang beside the body
     np.testing.assert_array_equal(rest_posture(standing, 0.5), rest_posture(standing))

@@ -55,7 +55,11 @@ def run_intent_trial(trial: IntentTrial) -> dict:
     write_trial_scenario(trial.scenario_dir, trial.index, trial.scenario)
     report = run_scenario(trial.scenario, replay, monitor_factory=monitor)
     robot = report.simulation.robot.diagram
-    intent = robot.GetOutputPort("intent").Eval(report.simulation.robot_context(report.context))
+    robot_context = report.simulation.robot_context(report.context)
+    intent = robot.GetOutputPort("intent").Eval(robot_context)
+    # The watch-only robot with active gaze raises its torso where objects hide the arm.
+    lifted = robot.HasOutputPort("watch_lift")
+    watch_lift = float(robot.GetOutputPort("watch_lift").Eval(robot_context)[0]) if lifted else 0.0
     by_color = {obj.color: obj.name for obj in trial.scenario.objects}
     recognised = by_color.get(intent.target, intent.target) if intent.target else ""
     name_replay(report.replay, trial.index, _outcome(trial, recognised))
@@ -68,7 +72,7 @@ def run_intent_trial(trial: IntentTrial) -> dict:
         "seed": trial.scenario.simulation.seed, "person_height_m": person.height,
         "person_x_m": person.position[0], "person_y_m": person.position[1],
         "person_yaw_rad": person.yaw, "person_moved_back_m": moved_back,
-        "sim_s": report.sim_time,
+        "watch_lift_m": watch_lift, "sim_s": report.sim_time,
         "wall_s": time.perf_counter() - start,
         **({"percepts": recorders[0].frames} if recorders else {}),
     }  # fmt: skip
@@ -189,6 +193,7 @@ def summarise(experiment: IntentExperiment) -> dict:
         "requests_by_position": {
             side: sum(r["position"] == side for r in requests) for side in POSITIONS
         },
+        "watched_raised": sum(row.get("watch_lift_m", 0.0) > 0 for row in rows),
         "failed_trials": len(failures),
         "failures": failures,
         "arm_alone": _arm_alone(requests, success),

@@ -22,7 +22,8 @@ from hsr_handover.experiments.trial_classes import class_columns, class_lines  #
 CSV_COLUMNS = (
     "index", "kind", "target", "arm", "recognised", "latency_s", "recognised_time_s",
     "confidence", "seed", "person_height_m", "person_x_m", "person_y_m", "person_yaw_rad",
-    "person_moved_back_m", "sim_s", "wall_s", "arm_nearest", "arm_error_deg", "error",
+    "person_moved_back_m", "watch_lift_m", "sim_s", "wall_s", "arm_nearest", "arm_error_deg",
+    "error",
 )  # fmt: skip
 
 
@@ -46,6 +47,14 @@ def summary_lines(summary: dict) -> list[str]:
         f"latency from pointing onset: median {format_value(latency['median'], '.2f', ' s')}, "
         f"p95 {format_value(latency['p95'], '.2f', ' s')}",
         _arm_alone_line(summary["arm_alone"]),
+        *(
+            [
+                f"watched from a raised torso in {summary['watched_raised']} trials (the objects "
+                "would have hidden a pointing arm)"
+            ]
+            if summary.get("watched_raised")
+            else []
+        ),
         *class_lines("requests", summary["by_class"]),
         *class_lines("distractors", summary["false_triggers_by_class"], "false triggers"),
         f"failed trials: {summary['failed_trials']}",

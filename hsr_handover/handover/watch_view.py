@@ -14,15 +14,20 @@ the same tilt still frames the table's near edge, the objects and the person's h
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Sequence
+from typing import NamedTuple
 
 import numpy as np
 from pydrake.math import RigidTransform
 
+from hsr_handover.handover.cycle import Motion
 from hsr_handover.hsr import CAMERA_FRAME, TORSO_JOINT
+from hsr_handover.perception.active_gaze import FACE_ABOVE
 from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.perception.object_shapes import ObjectShape
+from hsr_handover.perception.torso_depth import mirrored_shoulder
 from hsr_handover.planning.perceived_scene import BONES, behind
 from hsr_handover.planning.planning_scene import PlanningScene
 
@@ -52,6 +57,12 @@ a few cm off its joint). A pointing arm in front of the chest can have a shoulde
 one of the handover reference's people had a shoulder read 66 cm from the other, 60 cm before
 the body, and the view asked for a rise of 6 m."""
 SHOULDER_TILT = 0.15  # m: two shoulders' heights differ by less, leaning to point included
+EYES_OVER_SHOULDERS = FACE_ABOVE[keypoint_index("r_shoulder")]
+"""m from the lifted shoulders up to the eyes (the active gaze's estimate). The
+camera rises no higher than the person's eyes: from above, the face of a seated person
+looking down at the table shows the top of the head, and the nose and eyes are lost for the
+whole gesture (a 1.65 m person at a 0.84 m table, watched from the lift's top, 0.69 m: the
+request never recognised)."""
 LEAST_RISE = 0.02
 """m: a view that asks for less than this is clear enough; no move for it (the perceived
 shoulders and objects wander by a cm or so from frame to frame)."""
@@ -113,9 +124,10 @@ def watch_posture(
 ) -> np.ndarray | None:
     """The HSR's posture (plant positions) to watch from: `q` with the torso raised by the
     `camera_rise` the person's two `shoulders` (the lifted keypoints, SHOULDER_DEPTH before the
-    joints) and the `objects` (m, world) ask for, as far as the lift goes, and the arm folded
-    down. None when the view from `q` asks for less than LEAST_RISE, the lift is at its top,
-    or the shoulders could not be one person's.
+    joints) and the `objects` (m, world) ask for, as far as the lift goes and no higher than
+    the person's eyes (EYES_OVER_SHOULDERS), and the arm folded down. None when the view from
+    `q` asks for less than LEAST_RISE, the lift is at its top, or the shoulders could not be
+    one person's.
 
     The lift raises the arm twice as fast as the head: raised 0.34 m with the arm upright, its
     wrist stands 11 cm below the camera and 19 cm before it, in the view's lower half, and
@@ -126,7 +138,8 @@ def watch_posture(
         return None
     camera = _camera(robot, q).translation()
     joints = [behind(shoulder, camera, SHOULDER_DEPTH) for shoulder in shoulders]
-    rise = camera_rise(camera, joints, objects)
+    eyes = float(np.mean([shoulder[2] for shoulder in shoulders])) + EYES_OVER_SHOULDERS
+    rise = min(camera_rise(camera, joints, objects), eyes - camera[2])
     lift_at, torso_at, flex_at = robot.index(LIFT), robot.index(TORSO_JOINT), robot.index(FLEX)
     lower, upper = robot.plant.GetPositionLowerLimits(), robot.plant.GetPositionUpperLimits()
     if not rise >= LEAST_RISE or q[lift_at] >= upper[lift_at] - 2.0 * LEAST_RISE:
@@ -146,6 +159,78 @@ def plausible_shoulders(shoulders: Sequence[np.ndarray]) -> bool:
     apart = shoulders[0] - shoulders[1]
     span = float(np.linalg.norm(apart))
     return bool(SHOULDER_SPAN[0] <= span <= SHOULDER_SPAN[1] and abs(apart[2]) <= SHOULDER_TILT)
+
+
+SHOULDERS = (keypoint_index("r_shoulder"), keypoint_index("l_shoulder"))
+NECK = keypoint_index("neck")
+
+
+class Weighed(NamedTuple):
+    """What the view was last weighed with: the shoulders as first seen, the objects' labels."""
+
+    shoulders: list[np.ndarray]
+    labels: frozenset[str]
+
+
+def weigh_now(
+    weighed: Weighed | None, points: np.ndarray, confidence: np.ndarray, objects: Sequence
+) -> Weighed | None:
+    """What to weigh the view with now (`watch_posture`), else None: first when both shoulders
+    (`points`, `confidence`: the lifted skeleton) and an object are seen, then again whenever
+    an object is seen for the first time, with the shoulders as first seen (the person at rest:
+    pointing, they lean in and their arm can take a shoulder's keypoint)."""
+    labels = frozenset(shape.label for shape in objects)
+    if not objects or (weighed is not None and labels <= weighed.labels):
+        return None
+    if weighed is not None:
+        return Weighed(weighed.shoulders, labels)
+    shoulders = seen_shoulders(points, confidence)
+    return Weighed(shoulders, labels) if plausible_shoulders(shoulders) else None
+
+
+def seen_shoulders(points: np.ndarray, confidence: np.ndarray) -> list[np.ndarray]:
+    """The lifted shoulders, one hidden (a seated person's behind the objects on a high table)
+    mirrored from the other through the neck; fewer than two when neither way shows both."""
+    seen = [_keypoint(points, confidence, i) for i in (*SHOULDERS, NECK)]
+    right, left, neck = seen
+    if neck is not None and (right is None) != (left is None):
+        right, left = (
+            (mirrored_shoulder(neck, left), left)
+            if right is None
+            else (right, mirrored_shoulder(neck, right))
+        )
+    return [point for point in (right, left) if point is not None]
+
+
+def _keypoint(points: np.ndarray, confidence: np.ndarray, index: int) -> np.ndarray | None:
+    point = points[index]
+    return point if confidence[index] > 0 and np.isfinite(point).all() else None
+
+
+@dataclasses.dataclass(frozen=True)
+class Raise:
+    """The move to the posture the robot watches from: the `motion` (plant positions over
+    time), begun at `start` s, and the arm `lift` (m) it ends at."""
+
+    start: float
+    motion: Motion
+    lift: float
+    arrived: tuple[np.ndarray, np.ndarray] = dataclasses.field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        # Held once it is over: the command is read at every plant step.
+        object.__setattr__(self, "arrived", self.motion.state(self.motion.duration))
+
+    @property
+    def end(self) -> float:
+        return self.start + self.motion.duration
+
+    def state(self, time: float) -> tuple[np.ndarray, np.ndarray]:
+        """Positions and velocities (plant order) at `time` s."""
+        return self.arrived if time >= self.end else self.motion.state(time - self.start)
+
+    def __deepcopy__(self, memo: dict) -> Raise:
+        return self  # never changed once made
 
 
 def _camera(robot: PlanningScene, q: np.ndarray) -> RigidTransform:

@@ -45,8 +45,12 @@ OVER_TABLE = 0.02
 0.70-0.76 m, under the top of a high table (0.80 m): a hand whose tip rested a few cm from the
 table's edge met the edge as the arm swung out, and stayed there for the whole gesture (the
 staggered layout's trials 39 and 43 of seed 1 never pointed). At such a table the forearms rest
-tilted up, the elbows bent further, as people hold their hands over a table's edge."""
-RAISE_STEP = 0.1  # rad: the elbow is bent by steps of this until the hand is over the table
+tilted up, the elbows bent further, as people hold their hands over a table's edge; and where
+the elbow would still be under the top, the upper arm comes forward until it is over it (the
+forearms rest on the table): a 1.55 m person seated at a 0.77 m table, elbow under the top and
+hand over it, jammed the forearm against the edge from below as the arm swung up to point
+(700 N; generated layouts)."""
+RAISE_STEP = 0.1  # rad: the elbow (or the shoulder) turns by steps of this
 WITHDRAW_ELBOW = -1.6
 """rad: a pointing hand held over an object is drawn back by bending the elbow this far (the
 forearm about square to the upper arm) before the arm lowers: lowered straight from the point
@@ -120,16 +124,30 @@ def _hands_under(body: BodyDimensions, q: np.ndarray, table_top: float) -> bool:
 
 
 def _raise_hand_over(body: BodyDimensions, arm: str, q: np.ndarray, height: float) -> None:
-    """Bend the `arm`'s elbow in `q` (by RAISE_STEP at a time, within its limit) until the
-    hand's lowest point (its axis, wrist to tips, less half its thickness) is over `height`."""
+    """Bring the `arm`'s upper arm forward in `q` until its elbow is over `height`, then bend
+    its elbow until the hand's lowest point (its axis, wrist to tips, less half its thickness)
+    is over it: by RAISE_STEP at a time, within the joints' limits."""
     joints = arm_joint_indices(arm)
-    elbow = joints[3]
+    pitch, elbow = joints[0], joints[3]
+    forward_most = joint_limits(PERSON_JOINTS[pitch])[0]
+    if _hand_low(body, arm, q) >= height:
+        return  # the hand rests over the table as it is: the arm stays as it is
+    while (
+        arm_points(body, arm, q[joints])["elbow"][2] < height
+        and q[pitch] - RAISE_STEP >= forward_most
+    ):
+        q[pitch] -= RAISE_STEP
     lowest = joint_limits(PERSON_JOINTS[elbow])[0]
     while q[elbow] - RAISE_STEP >= lowest:
-        points = arm_points(body, arm, q[joints])
-        if min(points["wrist"][2], points["tips"][2]) - HAND_THICKNESS / 2 >= height:
+        if _hand_low(body, arm, q) >= height:
             return
         q[elbow] -= RAISE_STEP
+
+
+def _hand_low(body: BodyDimensions, arm: str, q: np.ndarray) -> float:
+    """The height (m) of the lowest point of the `arm`'s hand's axis, less half its thickness."""
+    points = arm_points(body, arm, q[arm_joint_indices(arm)])
+    return min(points["wrist"][2], points["tips"][2]) - HAND_THICKNESS / 2
 
 
 def aim_head(body: BodyDimensions, point: np.ndarray) -> np.ndarray:

@@ -8,8 +8,9 @@ Two modes, decided from the lifted skeleton alone:
   long enough for the move and a few frames, and begins again.
 - **Framing**: a person seen. The head aims the camera so its field of view holds, in this
   order, what attention selects (the face, the hand or an object: paper 3.2; fixated, the
-  axis as near it as the rest allows), the person's face, their hands and the objects on the
-  table (where last seen: they
+  axis as near it as the rest allows), the person's face, where an arm held out points on the
+  table (`pointed_at`: the robot looks where the person points, so an object outside its view
+  is seen once asked for), their hands and the objects on the table (where last seen: they
   stay put while the camera looks away). Each wants the optical axis within an interval of
   heading and elevation; the intervals are intersected in that order, one that would leave
   nothing is dropped, and the axis goes to the middle of what is left (`fit`). A standing
@@ -43,6 +44,14 @@ at the first fixation that faces them."""
 
 FACE = tuple(keypoint_index(name) for name in FACE_KEYPOINTS)
 WRISTS = (keypoint_index("r_wrist"), keypoint_index("l_wrist"))
+ARMS = tuple((keypoint_index(f"{side}_shoulder"), keypoint_index(f"{side}_wrist")) for side in "rl")
+HELD_OUT = 0.3
+"""m a wrist is held out from its shoulder, horizontally, for its arm to count as pointing (a
+seated person's resting forearms hold it 0.2-0.3 m out; a pointing arm, 0.4-0.6)."""
+POINTED_AHEAD = 0.6
+"""m beyond the wrist the object pointed at is taken to be: objects on the table between the
+person and the robot lie 0.3-0.9 m beyond a pointing wrist, and the camera's width takes in
+the rest."""
 FACE_ABOVE = {
     keypoint_index("neck"): 0.22,
     keypoint_index("r_shoulder"): 0.27,
@@ -165,6 +174,24 @@ def face_estimate(points: np.ndarray, confidence: np.ndarray) -> np.ndarray | No
     return np.array([points[index][0], points[index][1], top])
 
 
+def pointed_at(points: np.ndarray, confidence: np.ndarray, level: float) -> np.ndarray | None:
+    """Where on the table the arm held out farthest (HELD_OUT or more) points: POINTED_AHEAD
+    beyond its wrist along the shoulder-to-wrist heading, at the objects' `level` (m, world);
+    None when no arm is held out over it. The heading alone is taken: lifted, the wrist lands
+    on the hand's surface a few cm low, and the line through it dips to the table 30 cm
+    short of the object pointed at."""
+    best, best_reach = None, HELD_OUT
+    for shoulder, wrist in ARMS:
+        if not (_seen(points, confidence, shoulder) and _seen(points, confidence, wrist)):
+            continue
+        along = (points[wrist] - points[shoulder])[:2]
+        reach = float(np.hypot(*along))
+        if reach >= best_reach and points[wrist][2] > level:
+            ahead = points[wrist][:2] + POINTED_AHEAD * along / reach
+            best, best_reach = np.array([*ahead, level]), reach
+    return best
+
+
 def fit(wanted: Sequence[float], half: float, toward: float | None = None) -> float | None:
     """Of the angles that keep the most of `wanted` (angles, in their order of priority) within
     `half` of the axis (each narrows the interval left, and one that would leave nothing is
@@ -240,9 +267,14 @@ class ActiveGaze:
         attended: Sequence[np.ndarray] = (),
     ) -> tuple[float, float]:
         """The optical axis's (heading, elevation) that frames what attention selects, then the
-        face, then the hands, then the objects (nearest the face's heading first)."""
+        face, then where an arm points on the table (the object asked for may not have been
+        seen yet), then the hands, then the objects (nearest the face's heading first)."""
         margin = math.radians(self.params.margin_deg)
         targets = [angles(camera, center) for center in attended] + [angles(camera, face)]
+        if objects:
+            level = float(np.mean([center[2] for _, center in objects]))
+            pointed = pointed_at(points, confidence, level)
+            targets += [] if pointed is None else [angles(camera, pointed)]
         targets += [angles(camera, points[i]) for i in WRISTS if _seen(points, confidence, i)]
         face_heading = targets[len(attended)][0]
         by_heading = sorted((angles(camera, c) for _, c in objects),

@@ -29,11 +29,12 @@ from hsr_handover.robot.perception import PERCEPTION_OUTPUTS, SensorInputs, add_
 from hsr_handover.scenario import Scenario, robot_start_positions
 from hsr_handover.systems.gaze_controller import GazeController
 from hsr_handover.systems.handover_supervisor import HandoverSupervisor
-from hsr_handover.systems.posture_with_gaze import PostureWithGaze
 from hsr_handover.systems.watching import WATCHING
+from hsr_handover.systems.watching_posture import WatchingPosture
 
 HANDOVER_OUTPUTS = ("cycle", "plan_view")  # the supervisor's, exported when handover is on
 GAZE_OUTPUTS = ("gaze",)  # the GazeController's, exported with perception.active_gaze
+WATCH_OUTPUTS = ("watch_lift",)  # the watch-only robot's WatchingPosture's, with active gaze
 WATCH_ONLY = ("point_cloud_gng", "intent_estimator")
 """The perception systems whose work serves only the watch for a request (`systems.watching`)."""
 
@@ -99,6 +100,23 @@ def _add_gaze(builder: DiagramBuilder, inputs: SensorInputs, scenario: Scenario)
     return gaze
 
 
+def _add_watching_posture(
+    builder: DiagramBuilder, inputs: SensorInputs, gaze: LeafSystem, state: np.ndarray
+) -> LeafSystem:
+    """The watch-only robot's posture: `state`, the head the gaze's, the torso raised where
+    the objects would hide a pointing arm."""
+    posture = builder.AddNamedSystem("ready_posture", WatchingPosture(state))
+    builder.Connect(gaze.GetOutputPort("head_command"), posture.GetInputPort("head_command"))
+    for name, system, output in (("skeleton", "skeleton_lifter", "skeleton"),
+                                 ("scene", "perceived_scene_estimator", "scene")):  # fmt: skip
+        builder.Connect(builder.GetSubsystemByName(system).GetOutputPort(output),
+                        posture.GetInputPort(name))  # fmt: skip
+    inputs.feed(interface.HSR_STATE_MEASURED, posture.GetInputPort(interface.HSR_STATE_MEASURED))
+    (name,) = WATCH_OUTPUTS
+    builder.ExportOutput(posture.GetOutputPort(name), name)
+    return posture
+
+
 def build_robot(scenario: Scenario) -> Robot:
     """The robot's diagram from the scenario's robot, camera and perception settings."""
     builder = DiagramBuilder()
@@ -126,15 +144,14 @@ def build_robot(scenario: Scenario) -> Robot:
         for name in HANDOVER_OUTPUTS:
             builder.ExportOutput(supervisor.GetOutputPort(name), name)
         outputs += HANDOVER_OUTPUTS
-    elif gaze is not None:
-        posture = builder.AddNamedSystem("ready_posture", PostureWithGaze(state))
-        builder.Connect(gaze.GetOutputPort("head_command"), posture.GetInputPort("head_command"))
-        gripper = builder.AddNamedSystem("ready_gripper", ConstantVectorSource([opening]))
-        commands = (posture.get_output_port(), gripper.get_output_port())
     else:
-        posture = builder.AddNamedSystem("ready_posture", ConstantVectorSource(state))
+        if gaze is not None:
+            posture = _add_watching_posture(builder, inputs, gaze, state)
+            outputs += WATCH_OUTPUTS
+        else:
+            posture = builder.AddNamedSystem("ready_posture", ConstantVectorSource(state))
         gripper = builder.AddNamedSystem("ready_gripper", ConstantVectorSource([opening]))
-        commands = (posture.get_output_port(), gripper.get_output_port())
+        commands = (posture.get_output_port(0), gripper.get_output_port())  # desired state first
     builder.ExportOutput(commands[0], interface.HSR_DESIRED_STATE)
     builder.ExportOutput(commands[1], interface.GRIPPER_DESIRED_OPENING)
     diagram = builder.Build()

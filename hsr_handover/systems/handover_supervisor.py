@@ -25,7 +25,6 @@ render every frame while the robot acted.
 from __future__ import annotations
 
 import dataclasses
-from typing import NamedTuple
 
 import numpy as np
 from pydrake.common.value import AbstractValue
@@ -33,7 +32,7 @@ from pydrake.systems.framework import BasicVector, Context, LeafSystem, State
 
 from hsr_handover.effectivity.arm_map import ArmEffectivity
 from hsr_handover.effectivity.person_map import RECEIVING_SIDE, HumanArm, receiving_arm
-from hsr_handover.handover.cycle import Cycle, HandoverCycle, Motion, Percepts, Phase
+from hsr_handover.handover.cycle import Cycle, HandoverCycle, Percepts, Phase
 from hsr_handover.handover.gaze import look_at
 from hsr_handover.handover.look_round import (
     LOOK_AROUND_PANS,
@@ -45,7 +44,7 @@ from hsr_handover.handover.look_round import (
 from hsr_handover.handover.perceived_planner import PerceivedPlanner, pads_centre
 from hsr_handover.handover.plan_view import PlanView
 from hsr_handover.handover.scene_memory import remember
-from hsr_handover.handover.watch_view import LIFT, plausible_shoulders, watch_posture
+from hsr_handover.handover.watch_view import LIFT, Raise, Weighed, watch_posture, weigh_now
 from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY, HEAD_JOINTS
 from hsr_handover.intent import IntentParams, IntentTracker
 from hsr_handover.perception.coco18 import keypoint_index
@@ -62,39 +61,6 @@ the objects on both sides seen (a raise of 0.6 m then ends by about 5 s), and ag
 another object comes into view until a request is recognised."""
 
 
-@dataclasses.dataclass(frozen=True)
-class _Raise:
-    """The move to the posture it watches from: the `motion` (plant positions over time),
-    begun at `start` s, and the arm `lift` (m) it ends at."""
-
-    start: float
-    motion: Motion
-    lift: float
-    arrived: tuple[np.ndarray, np.ndarray] = dataclasses.field(init=False, repr=False)
-
-    def __post_init__(self) -> None:
-        # Held once it is over: the command is read at every plant step.
-        object.__setattr__(self, "arrived", self.motion.state(self.motion.duration))
-
-    @property
-    def end(self) -> float:
-        return self.start + self.motion.duration
-
-    def state(self, time: float) -> tuple[np.ndarray, np.ndarray]:
-        """Positions and velocities (plant order) at `time` s."""
-        return self.arrived if time >= self.end else self.motion.state(time - self.start)
-
-    def __deepcopy__(self, memo: dict) -> _Raise:
-        return self  # never changed once made
-
-
-class _Weighed(NamedTuple):
-    """What the view was last weighed with: the shoulders as first seen, the objects' labels."""
-
-    shoulders: list[np.ndarray]
-    labels: frozenset[str]
-
-
 @dataclasses.dataclass
 class _Memory:
     """What the supervisor carries between ticks: the cycle, the person's arm as last seen
@@ -107,8 +73,8 @@ class _Memory:
     facing: SteadyFacing = dataclasses.field(default_factory=SteadyFacing)
     head: tuple[float, float] | None = None  # (pan, tilt) rad while the cycle looks at a point
     scene: PerceivedScene | None = None
-    raised: _Raise | None = None  # None: it watches from the ready posture
-    weighed: _Weighed | None = None
+    raised: Raise | None = None  # None: it watches from the ready posture
+    weighed: Weighed | None = None
     view_blocked: bool = False  # a raise found no way: it watches from where it is
     correcting: IntentTracker | None = None  # watching for a correction, once it has lifted
 
@@ -209,37 +175,26 @@ class HandoverSupervisor(LeafSystem):
         return state.correction
 
     def _raise_view(self, context: Context, skeleton, memory: _Memory) -> None:
-        """Raise the torso if the objects would hide a pointing arm (`watch_posture`): first
-        when both shoulders and an object are seen, then again whenever an object is seen for
-        the first time, with the shoulders as first seen (the person at rest: pointing, they
-        lean in and their arm can take a shoulder's keypoint); only while it watches for a
-        request and is not already rising."""
+        """Raise the torso if the objects would hide a pointing arm (`watch_posture`), weighed
+        when `weigh_now` says; only while it watches for a request and is not already rising."""
         time = context.get_time()
         raising = memory.raised is not None and time < memory.raised.end
         if memory.cycle.cycle.target is not None or memory.view_blocked or raising:
             return
         objects = memory.scene.objects if memory.scene is not None else ()
-        labels = frozenset(shape.label for shape in objects)
-        if memory.weighed is None:
-            shoulders = [_keypoint(skeleton, index) for index in _SHOULDERS]
-            if any(point is None for point in shoulders) or not plausible_shoulders(shoulders):
-                return
-        elif labels <= memory.weighed.labels:
-            return  # weighed already with these objects
-        else:
-            shoulders = memory.weighed.shoulders
-        if not objects:
+        weighed = weigh_now(memory.weighed, skeleton.points, skeleton.confidence, objects)
+        if weighed is None:
             return
-        memory.weighed = _Weighed(shoulders, labels)
+        memory.weighed = weighed
         q = self._measured(context)
-        posture = watch_posture(self._robot, q, shoulders, objects)
+        posture = watch_posture(self._robot, q, weighed.shoulders, objects)
         if posture is None:
             return
         self._planner.perceive(memory.scene, memory.arm)
         planned = self._planner.posture(q, posture)
         if planned.ok:
             lift = float(posture[self._robot.index(LIFT)])
-            memory.raised = _Raise(time, planned.motions[0][1], lift)
+            memory.raised = Raise(time, planned.motions[0][1], lift)
             memory.cycle.wait_until(memory.raised.end)  # the grasp plans from the view reached
         memory.view_blocked = not planned.ok  # then it watches from where it is
 
@@ -327,7 +282,6 @@ class HandoverSupervisor(LeafSystem):
 
 
 _WRIST = keypoint_index(f"{RECEIVING_SIDE}_wrist")
-_SHOULDERS = (keypoint_index("r_shoulder"), keypoint_index("l_shoulder"))
 _UPPER_BODY = tuple(keypoint_index(name) for name in ("neck", "r_shoulder", "l_shoulder"))
 _FACE = tuple(keypoint_index(name) for name in ("nose", "r_eye", "l_eye", "r_ear", "l_ear"))
 

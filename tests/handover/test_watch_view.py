@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from hsr_handover.handover.watch_view import (
+    EYES_OVER_SHOULDERS,
     FLEX,
     LEAST_RISE,
     LIFT,
@@ -15,9 +16,12 @@ from hsr_handover.handover.watch_view import (
     camera_rise,
     plausible_shoulders,
     reach_points,
+    seen_shoulders,
     watch_posture,
+    weigh_now,
 )
 from hsr_handover.hsr import CAMERA_FRAME, TORSO_JOINT
+from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.perception.object_shapes import BOX, CYLINDER, ObjectShape
 from hsr_handover.perception.pinhole import PinholeCamera
 from hsr_handover.planning.perceived_scene import PerceivedScene, behind
@@ -150,3 +154,45 @@ def test_shoulders_that_could_not_be_one_persons_ask_for_nothing(robot, other, p
     assert plausible_shoulders(shoulders) is plausible
     posture = watch_posture(robot, _ready(robot), shoulders, _objects(0.80))
     assert (posture is not None) is plausible
+
+
+def _skeleton(**points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Lifted keypoints (18 x 3, 18 confidences) with only the named ones seen."""
+    lifted, confidence = np.full((18, 3), np.nan), np.zeros(18)
+    for name, point in points.items():
+        lifted[keypoint_index(name)], confidence[keypoint_index(name)] = point, 0.9
+    return lifted, confidence
+
+
+def test_a_shoulder_hidden_behind_the_objects_is_mirrored_through_the_neck():
+    neck = (SHOULDERS[0] + SHOULDERS[1]) / 2
+    both = seen_shoulders(*_skeleton(r_shoulder=SHOULDERS[0], l_shoulder=SHOULDERS[1]))
+    np.testing.assert_allclose(both, SHOULDERS)
+    one = seen_shoulders(*_skeleton(r_shoulder=SHOULDERS[0], neck=neck))
+    np.testing.assert_allclose(one, SHOULDERS)
+    assert len(seen_shoulders(*_skeleton(r_shoulder=SHOULDERS[0]))) == 1  # no neck: no mirror
+
+
+def test_the_view_is_weighed_first_with_both_shoulders_then_again_for_each_new_object():
+    objects = _objects(0.80)
+    assert weigh_now(None, *_skeleton(r_shoulder=SHOULDERS[0]), objects) is None
+    assert weigh_now(None, *_skeleton(r_shoulder=SHOULDERS[0], l_shoulder=SHOULDERS[1]), []) is None
+    first = weigh_now(None, *_skeleton(r_shoulder=SHOULDERS[0], l_shoulder=SHOULDERS[1]),
+                      objects[:2])  # fmt: skip
+    assert first.labels == {"red", "yellow"}
+    leaning = _skeleton(r_shoulder=SHOULDERS[0] + 0.1, l_shoulder=SHOULDERS[1])
+    assert weigh_now(first, *leaning, objects[:2]) is None  # nothing new
+    again = weigh_now(first, *leaning, objects)
+    assert again.labels == {"red", "yellow", "green"}
+    np.testing.assert_allclose(again.shoulders, SHOULDERS)  # as first seen
+
+
+def test_the_camera_rises_no_higher_than_the_persons_eyes(robot):
+    q = _ready(robot)
+    low = [shoulder - [0.0, 0.0, 0.12] for shoulder in SHOULDERS]  # a short person, seated
+    objects = _objects(0.86)
+    camera = _camera_pose(robot, q).translation()
+    eyes = np.mean([shoulder[2] for shoulder in low]) + EYES_OVER_SHOULDERS
+    assert camera[2] + camera_rise(camera, _joints(low, camera), objects) > eyes  # asked for
+    raised = watch_posture(robot, q, low, objects)
+    assert _camera_pose(robot, raised).translation()[2] == pytest.approx(eyes, abs=0.01)
