@@ -153,11 +153,11 @@ def test_the_lowering_arm_is_checked_all_the_way_down_to_rest():
 
 
 def test_a_hand_that_would_sweep_through_an_object_on_its_way_down_is_withdrawn():
-    """The staggered layout's trial 12 of seed 1: the arm pointed clear of the objects (not
-    raised), but lowered straight to rest its hand passed 0.5 cm (axis) from the yellow box
-    and touched it."""
+    """On the staggered layout (trial 49 of seed 2) the arm points clear of the objects (not
+    raised), but lowered straight to rest its hand's axis would pass 3 cm from a box: through
+    its edge."""
     layout = load_scenario(SCENARIOS / "layouts" / "staggered_high_four.yaml")
-    trial = make_trials(layout, 60, 0, 1)[12]
+    trial = make_trials(layout, 60, 0, 2)[49]
     scenario = trial.scenario
     sit_clear(scenario)
     body = BodyDimensions.from_height(scenario.person.height, seated=True)

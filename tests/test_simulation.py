@@ -17,7 +17,7 @@ from pydrake.systems.primitives import ConstantVectorSource
 from hsr_handover import interface
 from hsr_handover.hsr import COMMANDED_JOINTS
 from hsr_handover.robot import PERCEPTION_OUTPUTS, build_robot, ready_command
-from hsr_handover.robot.builder import GAZE_OUTPUTS, WATCH_ONLY
+from hsr_handover.robot.builder import GAZE_OUTPUTS, WATCH_ONLY, WATCH_OUTPUTS
 from hsr_handover.scenario import load_scenario
 from hsr_handover.simulation import build_simulation, connect_robot
 from hsr_handover.station import build_station
@@ -155,7 +155,8 @@ def test_robot_diagram_reads_sensors_and_commands_its_ready_posture():
     inputs = {diagram.get_input_port(i).get_name() for i in range(diagram.num_input_ports())}
     outputs = {diagram.get_output_port(i).get_name() for i in range(diagram.num_output_ports())}
     assert inputs <= set(interface.SENSORS) and "skeleton_keypoints" in inputs
-    assert outputs == set(interface.COMMANDS) | set(PERCEPTION_OUTPUTS) | set(GAZE_OUTPUTS)
+    expected = set(interface.COMMANDS) | set(PERCEPTION_OUTPUTS) | set(GAZE_OUTPUTS)
+    assert outputs == expected | set(WATCH_OUTPUTS)  # the watch-only robot with active gaze
     context = diagram.CreateDefaultContext()
     state = diagram.GetOutputPort(interface.HSR_DESIRED_STATE).Eval(context)
     expected, opening = ready_command(scenario)
