@@ -3,8 +3,9 @@
 Its inputs are named after the station's sensor outputs and its outputs after the station's
 command inputs (`hsr_handover.interface`), so the two connect by name. It perceives (when
 `perception.enabled`), turning its head to find and frame the person (`GazeController`, with
-`perception.active_gaze`), and holds its ready posture, or (when `handover.enabled`) runs the
-perceiving-acting cycle: the HandoverSupervisor commands the HSR from its percepts.
+`perception.active_gaze`), and holds its ready posture (with the gaze, raising its torso
+where the objects would hide a pointing arm: `WatchingPosture`), or (when `handover.enabled`)
+runs the perceiving-acting cycle: the HandoverSupervisor commands the HSR from its percepts.
 """
 
 from __future__ import annotations
