@@ -47,14 +47,7 @@ def summary_lines(summary: dict) -> list[str]:
         f"latency from pointing onset: median {format_value(latency['median'], '.2f', ' s')}, "
         f"p95 {format_value(latency['p95'], '.2f', ' s')}",
         _arm_alone_line(summary["arm_alone"]),
-        *(
-            [
-                f"watched from a raised torso in {summary['watched_raised']} trials (the objects "
-                "would have hidden a pointing arm)"
-            ]
-            if summary.get("watched_raised")
-            else []
-        ),
+        *_raised_lines(summary.get("watched_raised", 0)),
         *class_lines("requests", summary["by_class"]),
         *class_lines("distractors", summary["false_triggers_by_class"], "false triggers"),
         f"failed trials: {summary['failed_trials']}",
@@ -62,6 +55,14 @@ def summary_lines(summary: dict) -> list[str]:
         f"wall time {summary['wall_s']:.0f} s",
     ]
     return lines
+
+
+def _raised_lines(raised: int) -> list[str]:
+    """How often the watch-only robot watched from a raised torso (nothing when never)."""
+    if not raised:
+        return []
+    return [f"watched from a raised torso in {raised} trials (the objects would have hidden a "
+            "pointing arm)"]  # fmt: skip
 
 
 def _arm_alone_line(arm: dict) -> str:

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import NamedTuple
 
 import numpy as np
@@ -231,6 +231,51 @@ class Raise:
 
     def __deepcopy__(self, memo: dict) -> Raise:
         return self  # never changed once made
+
+
+@dataclasses.dataclass
+class WatchView:
+    """Where the robot watches from, carried between its ticks: what the view was last weighed
+    with, the raise made (None: it watches from where it stands) and whether a raise found no
+    way (then it watches from where it is, for good)."""
+
+    weighed: Weighed | None = None
+    raised: Raise | None = None
+    blocked: bool = False
+
+    def settled(self, time: float) -> bool:
+        """Whether it may weigh the view at `time` s: no raise blocked, none under way."""
+        return not self.blocked and (self.raised is None or time >= self.raised.end)
+
+    def weigh(
+        self,
+        time: float,
+        robot: PlanningScene,
+        q: np.ndarray,
+        points: np.ndarray,
+        confidence: np.ndarray,
+        objects: Sequence[ObjectShape],
+        plan: Callable[[np.ndarray, np.ndarray], Motion | None],
+    ) -> Raise | None:
+        """The raise begun at `time` s when `weigh_now` has something to weigh, the view from
+        `q` (the HSR's measured positions, plant order) asks for one (`watch_posture`) and
+        `plan(q, posture)` finds a motion to it (None: none, and it stays where it is); else
+        None."""
+        if not self.settled(time):
+            return None
+        weighed = weigh_now(self.weighed, points, confidence, objects)
+        if weighed is None:
+            return None
+        self.weighed = weighed
+        posture = watch_posture(robot, q, weighed.shoulders, objects)
+        if posture is None:
+            return None
+        motion = plan(q, posture)
+        self.blocked = motion is None
+        if motion is None:
+            return None
+        self.raised = Raise(time, motion, float(posture[robot.index(LIFT)]))
+        return self.raised
 
 
 def _camera(robot: PlanningScene, q: np.ndarray) -> RigidTransform:

@@ -33,7 +33,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from hsr_handover.perception.coco18 import FACE_KEYPOINTS, keypoint_index
+from hsr_handover.perception.attention import FACE, LEFT_ARM, RIGHT_ARM
+from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.perception.pinhole import PinholeCamera
 
 SEARCH_FIXATIONS = ((0.0, 0.2), (0.6, 0.2), (-0.6, 0.2), (1.2, 0.1), (-1.2, 0.1), (0.0, -0.3))
@@ -42,9 +43,7 @@ up 0.2 rad the camera (0.97 m up) sees from 12 degrees below level to 35 above, 
 seated person's face (5-10 degrees up at 1.5-2 m) and a standing one's (25-35 up) are in view
 at the first fixation that faces them."""
 
-FACE = tuple(keypoint_index(name) for name in FACE_KEYPOINTS)
 WRISTS = (keypoint_index("r_wrist"), keypoint_index("l_wrist"))
-ARMS = tuple((keypoint_index(f"{side}_shoulder"), keypoint_index(f"{side}_wrist")) for side in "rl")
 HELD_OUT = 0.3
 """m a wrist is held out from its shoulder, horizontally, for its arm to count as pointing (a
 seated person's resting forearms hold it 0.2-0.3 m out; a pointing arm, 0.4-0.6)."""
@@ -181,7 +180,7 @@ def pointed_at(points: np.ndarray, confidence: np.ndarray, level: float) -> np.n
     on the hand's surface a few cm low, and the line through it dips to the table 30 cm
     short of the object pointed at."""
     best, best_reach = None, HELD_OUT
-    for shoulder, wrist in ARMS:
+    for shoulder, _, wrist in (RIGHT_ARM, LEFT_ARM):
         if not (_seen(points, confidence, shoulder) and _seen(points, confidence, wrist)):
             continue
         along = (points[wrist] - points[shoulder])[:2]

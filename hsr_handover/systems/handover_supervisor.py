@@ -25,6 +25,7 @@ render every frame while the robot acted.
 from __future__ import annotations
 
 import dataclasses
+import functools
 
 import numpy as np
 from pydrake.common.value import AbstractValue
@@ -32,7 +33,7 @@ from pydrake.systems.framework import BasicVector, Context, LeafSystem, State
 
 from hsr_handover.effectivity.arm_map import ArmEffectivity
 from hsr_handover.effectivity.person_map import RECEIVING_SIDE, HumanArm, receiving_arm
-from hsr_handover.handover.cycle import Cycle, HandoverCycle, Percepts, Phase
+from hsr_handover.handover.cycle import Cycle, HandoverCycle, Motion, Percepts, Phase
 from hsr_handover.handover.gaze import look_at
 from hsr_handover.handover.look_round import (
     LOOK_AROUND_PANS,
@@ -44,7 +45,7 @@ from hsr_handover.handover.look_round import (
 from hsr_handover.handover.perceived_planner import PerceivedPlanner, pads_centre
 from hsr_handover.handover.plan_view import PlanView
 from hsr_handover.handover.scene_memory import remember
-from hsr_handover.handover.watch_view import LIFT, Raise, Weighed, watch_posture, weigh_now
+from hsr_handover.handover.watch_view import WatchView
 from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY, HEAD_JOINTS
 from hsr_handover.intent import IntentParams, IntentTracker
 from hsr_handover.perception.coco18 import keypoint_index
@@ -73,9 +74,7 @@ class _Memory:
     facing: SteadyFacing = dataclasses.field(default_factory=SteadyFacing)
     head: tuple[float, float] | None = None  # (pan, tilt) rad while the cycle looks at a point
     scene: PerceivedScene | None = None
-    raised: Raise | None = None  # None: it watches from the ready posture
-    weighed: Weighed | None = None
-    view_blocked: bool = False  # a raise found no way: it watches from where it is
+    view: WatchView = dataclasses.field(default_factory=WatchView)  # where it watches from
     correcting: IntentTracker | None = None  # watching for a correction, once it has lifted
 
 
@@ -175,28 +174,22 @@ class HandoverSupervisor(LeafSystem):
         return state.correction
 
     def _raise_view(self, context: Context, skeleton, memory: _Memory) -> None:
-        """Raise the torso if the objects would hide a pointing arm (`watch_posture`), weighed
-        when `weigh_now` says; only while it watches for a request and is not already rising."""
-        time = context.get_time()
-        raising = memory.raised is not None and time < memory.raised.end
-        if memory.cycle.cycle.target is not None or memory.view_blocked or raising:
+        """Raise the torso if the objects would hide a pointing arm (`WatchView.weigh`), only
+        while it watches for a request."""
+        if memory.cycle.cycle.target is not None or not memory.view.settled(context.get_time()):
             return
         objects = memory.scene.objects if memory.scene is not None else ()
-        weighed = weigh_now(memory.weighed, skeleton.points, skeleton.confidence, objects)
-        if weighed is None:
-            return
-        memory.weighed = weighed
-        q = self._measured(context)
-        posture = watch_posture(self._robot, q, weighed.shoulders, objects)
-        if posture is None:
-            return
+        raised = memory.view.weigh(context.get_time(), self._robot, self._measured(context),
+                                   skeleton.points, skeleton.confidence, objects,
+                                   functools.partial(self._plan_raise, memory))  # fmt: skip
+        if raised is not None:
+            memory.cycle.wait_until(raised.end)  # the grasp plans from the view reached
+
+    def _plan_raise(self, memory: _Memory, q: np.ndarray, posture: np.ndarray) -> Motion | None:
+        """The planner's motion to the posture it watches from, None if it finds none."""
         self._planner.perceive(memory.scene, memory.arm)
         planned = self._planner.posture(q, posture)
-        if planned.ok:
-            lift = float(posture[self._robot.index(LIFT)])
-            memory.raised = Raise(time, planned.motions[0][1], lift)
-            memory.cycle.wait_until(memory.raised.end)  # the grasp plans from the view reached
-        memory.view_blocked = not planned.ok  # then it watches from where it is
+        return planned.motions[0][1] if planned.ok else None
 
     def _measured(self, context: Context) -> np.ndarray:
         """The HSR's measured positions (plant order), also set in the planner's robot."""
@@ -254,8 +247,8 @@ class HandoverSupervisor(LeafSystem):
         """The command while the cycle moves nothing: the ready posture, or the posture it
         watches from (the move to it as planned, base and arm; the head looks round)."""
         command = self._ready.copy()
-        if memory.raised is not None:
-            q, v = memory.raised.state(time)
+        if memory.view.raised is not None:
+            q, v = memory.view.raised.state(time)
             n, rows = len(COMMANDED_JOINTS), BODY_ROWS  # the head is the watcher's
             command[rows] = q[self._rows[rows]]
             command[[n + row for row in rows]] = v[self._rows[rows]]
@@ -274,7 +267,7 @@ class HandoverSupervisor(LeafSystem):
 
     def _calc_cycle(self, context: Context, output: AbstractValue) -> None:
         memory = self._memory_of(context)
-        lift = 0.0 if memory.raised is None else memory.raised.lift
+        lift = 0.0 if memory.view.raised is None else memory.view.raised.lift
         output.set_value(dataclasses.replace(memory.cycle.cycle, watch_lift=lift))
 
     def _calc_plan_view(self, context: Context, output: AbstractValue) -> None:

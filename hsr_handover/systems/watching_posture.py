@@ -5,6 +5,7 @@ cycle's robot does while it watches."""
 from __future__ import annotations
 
 import dataclasses
+import functools
 
 import numpy as np
 from pydrake.common.value import AbstractValue
@@ -12,7 +13,7 @@ from pydrake.systems.framework import BasicVector, Context, LeafSystem, State
 
 from hsr_handover.handover.perceived_planner import TimedMotion
 from hsr_handover.handover.scene_memory import remember
-from hsr_handover.handover.watch_view import LIFT, Raise, Weighed, watch_posture, weigh_now
+from hsr_handover.handover.watch_view import WatchView
 from hsr_handover.hsr import COMMANDED_JOINTS, HEAD_JOINTS
 from hsr_handover.perception.skeleton import Skeleton
 from hsr_handover.planning.perceived_scene import PerceivedScene
@@ -27,14 +28,18 @@ HEAD_ROWS = [COMMANDED_JOINTS.index(joint) for joint in HEAD_JOINTS]
 
 @dataclasses.dataclass
 class _Watch:
-    """What it carries between ticks: the scene with what is out of view remembered, what the
-    view was last weighed with, the raise under way or made, and whether a raise found no
-    way (then it watches from where it is)."""
+    """What it carries between ticks: the scene with what is out of view remembered, and
+    where it watches from."""
 
     scene: PerceivedScene | None = None
-    weighed: Weighed | None = None
-    raised: Raise | None = None
-    blocked: bool = False
+    view: WatchView = dataclasses.field(default_factory=WatchView)
+
+
+def _plan(scene: PerceivedScene, q: np.ndarray, posture: np.ndarray) -> TimedMotion | None:
+    """A motion from `q` to `posture` clear of the perceived `scene`, None if there is none."""
+    planning = PlanningScene(scene)
+    plan = plan_posture(planning, q, posture, joint_limits(planning.plant))
+    return TimedMotion(plan.motions[0].timed) if plan.ok else None
 
 
 class WatchingPosture(LeafSystem):
@@ -71,26 +76,14 @@ class WatchingPosture(LeafSystem):
 
     def _tick(self, context: Context, state: State) -> None:
         watch: _Watch = state.get_mutable_abstract_state(self._watch).get_value()
-        watch.scene = remember(watch.scene, self._scene.Eval(context))
         time = context.get_time()
-        if watch.blocked or (watch.raised is not None and time < watch.raised.end):
-            return
+        if not watch.view.settled(time):
+            return  # the scene is read only while it may weigh the view
+        watch.scene = remember(watch.scene, self._scene.Eval(context))
         skeleton = self._skeleton.Eval(context)
-        objects = watch.scene.objects
-        weighed = weigh_now(watch.weighed, skeleton.points, skeleton.confidence, objects)
-        if weighed is None:
-            return
-        watch.weighed = weighed
-        q = self._measured(context)
-        posture = watch_posture(self._robot, q, weighed.shoulders, objects)
-        if posture is None:
-            return
-        planning = PlanningScene(watch.scene)
-        plan = plan_posture(planning, q, posture, joint_limits(planning.plant))
-        watch.blocked = not plan.ok
-        if plan.ok:
-            motion = TimedMotion(plan.motions[0].timed)
-            watch.raised = Raise(time, motion, float(posture[self._robot.index(LIFT)]))
+        watch.view.weigh(time, self._robot, self._measured(context), skeleton.points,
+                         skeleton.confidence, watch.scene.objects,
+                         functools.partial(_plan, watch.scene))  # fmt: skip
 
     def _measured(self, context: Context) -> np.ndarray:
         """The measured positions (plant order; the gripper as the robot model's default)."""
@@ -100,7 +93,7 @@ class WatchingPosture(LeafSystem):
 
     def _calc_state(self, context: Context, output: BasicVector) -> None:
         command = self._posture.copy()
-        raised = context.get_abstract_state(self._watch).get_value().raised
+        raised = context.get_abstract_state(self._watch).get_value().view.raised
         n = len(COMMANDED_JOINTS)
         if raised is not None:
             q, v = raised.state(context.get_time())
@@ -110,5 +103,5 @@ class WatchingPosture(LeafSystem):
         output.SetFromVector(command)
 
     def _calc_lift(self, context: Context, output: BasicVector) -> None:
-        raised = context.get_abstract_state(self._watch).get_value().raised
+        raised = context.get_abstract_state(self._watch).get_value().view.raised
         output.SetFromVector([0.0 if raised is None else raised.lift])

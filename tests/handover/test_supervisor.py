@@ -215,7 +215,7 @@ def test_a_request_recognised_while_it_rises_is_planned_for_once_it_has_risen(su
     with a step in the commanded velocity. The recognition is recorded when it comes."""
     system, context, _ = supervisor
     _watched_from(system, context, _boxes(0.86), until=LOOK_ROUND_S + 0.05)  # it may act
-    raised = context.get_abstract_state(0).get_value().raised
+    raised = context.get_abstract_state(0).get_value().view.raised
     assert raised is not None and raised.end > context.get_time() + 0.3  # still rising
     recognised = context.get_time() + 0.1
     system.GetInputPort("intent").FixValue(context, IntentState(target="yellow"))
