@@ -171,7 +171,8 @@ def test_a_refusal_is_graceful_only_when_the_robot_gives_up_holding_the_object(r
 
 def _experiment(base, box_trial, refusal):
     good = judge(box_trial, _cycle(), _score(table_height_error=0.004), "yellow_box", NAMES)
-    raised = dataclasses.replace(_cycle(), watch_lift=0.42)  # watched from a raised torso
+    # watched from a raised torso, handed to the left hand
+    raised = dataclasses.replace(_cycle(), watch_lift=0.42, receiving="l")
     late = judge(box_trial, raised, _score(person_contact=30.0), "yellow_box", NAMES, 12.5)
     left_up = {"red_cup": np.float64(0.2)}  # as the plant's poses give it
     table = judge(box_trial, _cycle(), _score(table_contact=12.0, set_down=left_up,
@@ -202,7 +203,7 @@ def test_the_summary_counts_every_trial_crashed_ones_too(base, box_trial, refusa
     assert summary["table_height_error_m"] == pytest.approx(0.09)  # the worst; NaN ones left out
     assert summary["paper"] == {"retrieval_rate": 0.866, "handover_rate": 0.90}
     assert summary["crashed"] == [{"index": box_trial.index, "error": "RuntimeError: boom"}]
-    assert summary["watched_raised"] == 1
+    assert summary["watched_raised"] == 1 and summary["handed_to_left"] == 1
     assert summary["first_choice_rate"] == pytest.approx(3 / 4) and summary["corrected"] == 0
     assert summary["repeated"] == 1  # the late trial's person asked again
     assert summary["objects_misplaced"] == 1  # the red cup lifted and left up

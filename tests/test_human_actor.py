@@ -46,7 +46,9 @@ def test_unknown_joint_names_are_rejected():
 def test_a_copied_state_has_its_own_receiver():
     """Drake copies the state at every update: the person's side of a handover in one copy
     must not leak into another (the timeline, never changed once made, is shared)."""
-    world = WorldBodies(hand=0, hand_middle=0.09, objects={}, X_WP=RigidTransform())
+    world = WorldBodies(
+        hands={"right": 0, "left": 0}, hand_middle=0.09, objects={}, X_WP=RigidTransform()
+    )
     actor = HumanActor(_timeline(), PERSON_JOINTS, Receiver(BODY, ReceivingParams()), world)
     context = actor.CreateDefaultContext()
     copied = context.Clone()
@@ -68,7 +70,7 @@ def test_the_person_asks_again_when_the_robot_lifts_another_object():
     again = PostureTimeline([(0.0, np.zeros(len(PERSON_JOINTS)))])  # only its first posture
     pointing = _timeline().evaluate(3.0)[0]
     corrector = Corrector("blue", [(0.0, pointing)], reaction_s=0.5)
-    world = WorldBodies(hand=0, hand_middle=0.09, objects={"red": 1, "blue": 2},
+    world = WorldBodies(hands={"right": 0, "left": 0}, hand_middle=0.09, objects={"red": 1, "blue": 2},
                         X_WP=RigidTransform())  # fmt: skip
     receiver = Receiver(BODY, ReceivingParams(), wanted="blue")
     actor = HumanActor(again, PERSON_JOINTS, receiver, world, corrector)
@@ -99,7 +101,7 @@ def test_the_person_asks_again_when_the_robots_hand_stays_still(moves: bool):
     request made again; with the hand set off in the meantime, it does not."""
     pointing = _timeline().evaluate(3.0)[0]
     capsule = ((3, np.zeros(3), np.array([0.0, 0.0, 0.05]), 0.01),)
-    world = WorldBodies(hand=0, hand_middle=0.09, objects={"red": 1, "blue": 2},
+    world = WorldBodies(hands={"right": 0, "left": 0}, hand_middle=0.09, objects={"red": 1, "blue": 2},
                         X_WP=RigidTransform(), gripper=capsule)  # fmt: skip
     still = PostureTimeline([(0.0, np.zeros(len(PERSON_JOINTS)))])
     repeater = Repeater([(0.0, pointing)], ended=1.0, wait_s=2.0)
@@ -128,7 +130,9 @@ def test_the_person_asks_again_when_the_robots_hand_stays_still(moves: bool):
 
 
 def test_a_repeater_without_the_robots_gripper_is_rejected():
-    world = WorldBodies(hand=0, hand_middle=0.09, objects={}, X_WP=RigidTransform())
+    world = WorldBodies(
+        hands={"right": 0, "left": 0}, hand_middle=0.09, objects={}, X_WP=RigidTransform()
+    )
     receiver = Receiver(BODY, ReceivingParams())
     with pytest.raises(ValueError, match="repeater"):
         HumanActor(_timeline(), PERSON_JOINTS, receiver, world, repeater=Repeater([], 1.0, 2.0))

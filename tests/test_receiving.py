@@ -153,17 +153,36 @@ def test_a_person_who_does_not_take_never_reaches():
     assert receiver.state is Receiving.WAITING
 
 
+def test_an_object_held_out_nearer_the_left_shoulder_is_taken_with_the_left_hand():
+    left = BODY.shoulder("left")
+    held_left = left + [0.45, 0.15, -0.05]  # beyond the right hand's reach
+    for either, arm in ((True, "left"), (False, None)):
+        receiver = Receiver(BODY, ReceivingParams(reaction_s=0.0, either_hand=either))
+        receiver.update(0.0, {"cup": held_left - [0.0, 0.0, 0.2]}, SHOULDER)
+        changes = []
+        for time in np.arange(0.05, 1.0, 0.05):
+            changes += receiver.update(float(time), {"cup": held_left}, SHOULDER)
+        if arm is None:  # the right hand alone does not reach it: never offered
+            assert changes == [] and receiver.state is Receiving.WAITING
+            continue
+        (_, posture), *_ = changes
+        assert receiver.arm == arm and receiver.state is Receiving.REACHING
+        np.testing.assert_allclose(posture[arm_joint_indices("right")], REST_ARM)
+        assert not np.allclose(posture[arm_joint_indices("left")], REST_LEFT)
+
+
 CUP_MASS = 0.2  # kg
 
 
 @pytest.fixture
 def grip():
     cup = GrippedBody(2, CUP_MASS, np.diag([2e-4, 2e-4, 1e-4]))
-    system = HandGrip(hand=1, objects={"cup": cup})
+    system = HandGrip(hands=(1, 3), objects={"cup": cup})  # hands 1 and 3, the cup 2
     context = system.CreateDefaultContext()
-    poses = [RigidTransform(), RigidTransform([0.5, 0, 1.0]), RigidTransform([0.6, 0, 1.0])]
+    poses = [RigidTransform(), RigidTransform([0.5, 0, 1.0]), RigidTransform([0.6, 0, 1.0]),
+             RigidTransform([0.5, 0.4, 0.8])]  # fmt: skip
     system.GetInputPort("body_poses").FixValue(context, poses)
-    system.GetInputPort("body_spatial_velocities").FixValue(context, [SpatialVelocity.Zero()] * 3)
+    system.GetInputPort("body_spatial_velocities").FixValue(context, [SpatialVelocity.Zero()] * 4)
     return system, context, poses
 
 
@@ -186,7 +205,7 @@ def test_a_closed_hand_holds_the_object_where_it_closed_on_it(grip):
     forces = system.GetOutputPort("spatial_forces").Eval(context)
     assert [int(f.body_index) for f in forces] == [2, 1]
     np.testing.assert_allclose(forces[0].F_Bq_W.translational(), 0.0, atol=1e-9)
-    moved = [*poses[:2], RigidTransform([0.6, 0, 0.99])]  # it sags 1 cm in the hand
+    moved = [*poses[:2], RigidTransform([0.6, 0, 0.99]), poses[3]]  # it sags 1 cm in the hand
     system.GetInputPort("body_poses").FixValue(context, moved)
     on_object, on_hand = system.GetOutputPort("spatial_forces").Eval(context)
     pull = CUP_MASS * GRIP_FREQUENCY**2 * 0.01  # N: the spring scaled by the cup's mass
@@ -195,6 +214,16 @@ def test_a_closed_hand_holds_the_object_where_it_closed_on_it(grip):
     system.GetInputPort("grip").FixValue(context, "")
     _latch(system, context)
     assert system.GetOutputPort("spatial_forces").Eval(context) == []
+
+
+def test_the_hand_nearest_the_object_is_the_one_that_holds_it(grip):
+    system, context, poses = grip
+    nearer = [*poses[:3], RigidTransform([0.65, 0.05, 1.0])]  # the other hand at the cup
+    system.GetInputPort("body_poses").FixValue(context, nearer)
+    system.GetInputPort("grip").FixValue(context, "cup")
+    _latch(system, context)
+    forces = system.GetOutputPort("spatial_forces").Eval(context)
+    assert [int(f.body_index) for f in forces] == [2, 3]
 
 
 def test_a_hand_that_strikes_the_object_on_its_way_closes_on_it_and_stops_there():

@@ -24,6 +24,7 @@ import numpy as np
 
 from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.perception.skeleton import Skeleton
+from hsr_handover.perception.torso_depth import seen_shoulders
 from hsr_handover.topology import GrowingCellStructures
 
 SHOULDER_WIDTH_PER_HEIGHT = 0.259  # Drillis and Contini 1966: biacromial width / height
@@ -131,19 +132,21 @@ def perceived_arm(
     points: np.ndarray, confidence: np.ndarray, side: str, forward: np.ndarray | None = None
 ) -> HumanArm | None:
     """The arm on `side` ("r" or "l") from a lifted COCO-18 skeleton (18 x 3, 18), or None
-    without both shoulders. `forward`: the way the torso faces (world; the chest's facing voted
-    over frames, `perception.facing`), when known."""
+    without both shoulders (one hidden is mirrored through the neck, `seen_shoulders`).
+    `forward`: the way the torso faces (world; the chest's facing voted over frames,
+    `perception.facing`), when known."""
     seen = (np.asarray(confidence) > 0) & np.isfinite(points).all(axis=1)
 
     def at(name: str) -> np.ndarray | None:
         index = keypoint_index(name)
         return points[index] if seen[index] else None
 
-    right, left = at("r_shoulder"), at("l_shoulder")
+    right, left = seen_shoulders(points, confidence)
     if right is None or left is None:
         return None
     height = np.linalg.norm(right - left) / SHOULDER_WIDTH_PER_HEIGHT
-    shoulder, elbow, wrist = at(f"{side}_shoulder"), at(f"{side}_elbow"), at(f"{side}_wrist")
+    shoulder = right if side == "r" else left
+    elbow, wrist = at(f"{side}_elbow"), at(f"{side}_wrist")
     upper = _plausible(shoulder, elbow, UPPER_ARM_PER_HEIGHT * height)
     forearm = _plausible(elbow, wrist, FOREARM_PER_HEIGHT * height)
     frame = _body_frame(right, left, at("nose"), forward)
@@ -181,19 +184,22 @@ def _body_frame(
     return np.column_stack([forward, across, up]) if math.isfinite(forward[0]) else np.eye(3)
 
 
-RECEIVING_SIDE = "r"
-"""The person takes the object with the right arm (most people are right-handed); an arm whose
-elbow or wrist is not seen gets the body's proportions (`perceived_arm`)."""
+RECEIVING_SIDES = ("r", "l")
+"""The arms the robot may hand to, the one tried first first: most people are right-handed,
+and a person takes with the other hand what only that hand reaches (a person seated off the
+table's axis, the robot able to stand only on their left). An arm whose elbow or wrist is not
+seen gets the body's proportions (`perceived_arm`)."""
 
 
-def receiving_arm(
+def receiving_arms(
     skeletons: Iterable[Skeleton], forward: np.ndarray | None = None
-) -> HumanArm | None:
-    """The person's receiving arm from the first of `skeletons` (newest first) that shows both
-    shoulders, its body frame facing `forward` when known (see `perceived_arm`); None if none
-    shows both."""
+) -> tuple[HumanArm, ...]:
+    """The person's arms, in RECEIVING_SIDES order, from the first of `skeletons` (newest
+    first) that shows both shoulders, their body frame facing `forward` when known (see
+    `perceived_arm`); empty if none shows both."""
     for skeleton in skeletons:
-        arm = perceived_arm(skeleton.points, skeleton.confidence, RECEIVING_SIDE, forward)
-        if arm is not None:
-            return arm
-    return None
+        arms = [perceived_arm(skeleton.points, skeleton.confidence, side, forward)
+                for side in RECEIVING_SIDES]  # fmt: skip
+        if all(arm is not None for arm in arms):
+            return tuple(arms)
+    return ()

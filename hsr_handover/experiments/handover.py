@@ -132,7 +132,7 @@ def judge(
         "table_height_error_m": score.table_height_error,
         "recognition_s": cycle.recognised_time - trial.pointing_onset,
         "planning_s": cycle.planning_s, "execution_s": release_time - cycle.recognised_time,
-        "watch_lift_m": cycle.watch_lift,
+        "watch_lift_m": cycle.watch_lift, "handed_to": cycle.receiving,
         "error": "",
     }  # fmt: skip
 
@@ -272,6 +272,7 @@ def summarise(experiment: HandoverExperiment) -> dict:
         ),
         "table_height_error_m": _most([row.get("table_height_error_m", math.nan) for row in ran]),
         "watched_raised": sum(row["watch_lift_m"] > 0 for row in ran),
+        "handed_to_left": sum(row.get("handed_to") == "l" for row in ran),
         "by_class": by_class(requests, lambda row: row["handed_over"]),
         "refusal_trials": len(refusals),
         "graceful_refusal_rate": rate(sum(row["graceful"] for row in refusals), len(refusals)),

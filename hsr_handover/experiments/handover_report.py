@@ -25,7 +25,7 @@ CSV_COLUMNS = (
     "table_contact", "person_contact", "knocked", "person_knocked", "set_down_m", "table_contact_s",
     "person_contact_s", "dropped_s", "gripped_s", "released_s", "clearance_table_m",
     "clearance_person_m", "table_height_error_m", "recognition_s", "planning_s", "execution_s",
-    "watch_lift_m", "seed", "person_height_m", "person_x_m", "person_y_m", "person_yaw_rad",
+    "watch_lift_m", "handed_to", "seed", "person_height_m", "person_x_m", "person_y_m", "person_yaw_rad",
     "person_moved_back_m", "sim_s", "wall_s", "arm_nearest", "arm_error_deg", "error",
 )  # fmt: skip
 
@@ -70,6 +70,9 @@ def summary_lines(summary: dict) -> list[str]:
     if summary["watched_raised"]:
         lines.append(f"watched from a raised torso in {summary['watched_raised']} trials "
                      "(the objects would have hidden a pointing arm)")  # fmt: skip
+    if summary["handed_to_left"]:
+        lines.append(f"handed to the left hand in {summary['handed_to_left']} trials "
+                     "(no mutual area with the right)")  # fmt: skip
     if summary["refusal_trials"]:
         lines.append(f"refusals handled gracefully: {_percent(summary['graceful_refusal_rate'])} "
                      f"of {summary['refusal_trials']}")  # fmt: skip

@@ -9,7 +9,7 @@ from pydrake.geometry import Meshcat
 from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import Context
 
-from hsr_handover.effectivity.person_map import HumanArm, receiving_arm
+from hsr_handover.effectivity.person_map import HumanArm, receiving_arms
 from hsr_handover.handover.look_round import LOOK_AROUND_PANS, LOOK_DWELL_S, LOOK_ROUND_TILT
 from hsr_handover.hsr import COMMANDED_JOINTS, HEAD_JOINTS
 from hsr_handover.perception.facing import steady_facing
@@ -46,7 +46,8 @@ class Watched:
         frame faces the chest's facing voted over those views."""
         skeletons = (self.percept("skeleton"), *reversed(self.glimpses))
         forward = steady_facing(skeleton.torso_forward for skeleton in skeletons)
-        return receiving_arm(skeletons, forward)
+        arms = receiving_arms(skeletons, forward)
+        return arms[0] if arms else None
 
 
 def watch(

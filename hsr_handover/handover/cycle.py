@@ -188,7 +188,8 @@ class Percepts:
 @dataclasses.dataclass(frozen=True)
 class PlannedMotions:
     """A planner's answer: `ok` with the `motions` in order, or not with the `reason`; the
-    wall `seconds` it took."""
+    wall `seconds` it took; a carry's `receiving` side ("r" or "l": the person's arm it
+    hands to)."""
 
     ok: bool
     reason: str
@@ -196,6 +197,7 @@ class PlannedMotions:
     seconds: float = 0.0
     held: object = None  # a grasp's: the object as the hand will hold it, for later plans
     view: PlanView | None = None  # what the plan shows in the replay
+    receiving: str = ""
 
 
 class CyclePlanner(Protocol):
@@ -240,9 +242,10 @@ class Cycle:
     """The cycle's record: `phase`, `failure` (None unless failed), `reason`, when each phase
     began (`phase_times`, s), planning wall time (`planning_s`), when the target was
     recognised (`recognised_time`) and which (`target`: the object fetched now), the arm lift
-    (m) the robot watched from (`watch_lift`; the supervisor's, 0 for the ready posture), and,
-    once the person has asked for another object, the one first fetched (`first_target`) and
-    when the correction was seen (`corrected_time`)."""
+    (m) the robot watched from (`watch_lift`; the supervisor's, 0 for the ready posture), the
+    person's arm it hands to (`receiving`, "r" or "l", once the carry is planned) and, once
+    the person has asked for another object, the one first fetched (`first_target`) and when
+    the correction was seen (`corrected_time`)."""
 
     phase: Phase = Phase.WATCH
     failure: Failure | None = None
@@ -252,6 +255,7 @@ class Cycle:
     phase_times: dict[str, float] = dataclasses.field(default_factory=dict)
     planning_s: float = 0.0
     watch_lift: float = 0.0
+    receiving: str = ""
     first_target: str | None = None
     corrected_time: float = math.nan
 
@@ -411,6 +415,7 @@ class HandoverCycle:
             return
         planned = self._plan(self._planner.carry(p.q, self._held), p, holding=True)
         if planned is not None:
+            self.cycle.receiving = planned.receiving
             self._enter(Phase.CARRY, p.time)
             self._queue = list(planned.motions)
 

@@ -37,6 +37,7 @@ from hsr_handover.planning.retarget import Retargeting, retarget
 from hsr_handover.planning.timing import TimedPath, joint_limits
 from hsr_handover.planning.trajectory import COLLISION_BOUND
 
+SIDE_NAMES = {"r": "right", "l": "left"}
 FOLLOW_CHECK_S = 0.05  # s between the clearance checks of a re-targeted motion
 
 
@@ -94,14 +95,15 @@ class PerceivedPlanner:
         self._arm_map = arm_map
         self.robot = PlanningScene(PerceivedScene(None))  # the HSR alone: its kinematics
         self.limits = joint_limits(self.robot.plant)
-        self._percepts: tuple[PerceivedScene, HumanArm | None] = (PerceivedScene(None), None)
+        self._percepts: tuple[PerceivedScene, tuple[HumanArm, ...]] = (PerceivedScene(None), ())
         self._scene: PlanningScene | None = None
 
-    def perceive(self, scene: PerceivedScene, arm: HumanArm | None) -> None:
-        """The perceived scene to plan in and the person's receiving arm (None if unseen)."""
+    def perceive(self, scene: PerceivedScene, arms: tuple[HumanArm, ...]) -> None:
+        """The perceived scene to plan in and the person's arms the robot may hand to, the one
+        to try first first (none if unseen; `person_map.receiving_arms`)."""
         if scene is not self._percepts[0]:
             self._scene = None
-        self._percepts = (scene, arm)
+        self._percepts = (scene, tuple(arms))
 
     def _planning(self) -> PlanningScene:
         if self._scene is None:
@@ -134,13 +136,19 @@ class PerceivedPlanner:
         return self._motions(plan, started)
 
     def carry(self, q: np.ndarray, held: Held | None) -> PlannedMotions:
+        """To the handover point of the first of the person's arms that has one."""
         started = time.perf_counter()
-        arm = self._percepts[1]
-        if arm is None:
+        arms = self._percepts[1]
+        if not arms:
             return PlannedMotions(False, "no person perceived to hand over to")
-        person = PersonEffectivity(arm)
-        plan = plan_handover(self._planning(), self._arm_map, person, q, self.limits, held)
-        return self._motions(plan, started, person)
+        reasons = []
+        for arm in arms:
+            person = PersonEffectivity(arm)
+            plan = plan_handover(self._planning(), self._arm_map, person, q, self.limits, held)
+            if plan.ok:
+                return dataclasses.replace(self._motions(plan, started, person), receiving=arm.side)
+            reasons.append(f"{SIDE_NAMES[arm.side]} arm: {plan.reason}")
+        return self._motions(dataclasses.replace(plan, reason="; ".join(reasons)), started)
 
     def follow(
         self, q: np.ndarray, v: np.ndarray, aim: np.ndarray, held: Held | None

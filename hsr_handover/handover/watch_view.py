@@ -27,7 +27,7 @@ from hsr_handover.hsr import CAMERA_FRAME, TORSO_JOINT
 from hsr_handover.perception.active_gaze import FACE_ABOVE
 from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.perception.object_shapes import ObjectShape
-from hsr_handover.perception.torso_depth import mirrored_shoulder
+from hsr_handover.perception.torso_depth import seen_shoulders
 from hsr_handover.planning.perceived_scene import BONES, behind
 from hsr_handover.planning.planning_scene import PlanningScene
 
@@ -161,10 +161,6 @@ def plausible_shoulders(shoulders: Sequence[np.ndarray]) -> bool:
     return bool(SHOULDER_SPAN[0] <= span <= SHOULDER_SPAN[1] and abs(apart[2]) <= SHOULDER_TILT)
 
 
-SHOULDERS = (keypoint_index("r_shoulder"), keypoint_index("l_shoulder"))
-NECK = keypoint_index("neck")
-
-
 class Weighed(NamedTuple):
     """What the view was last weighed with: the shoulders as first seen, the objects' labels."""
 
@@ -184,27 +180,8 @@ def weigh_now(
         return None
     if weighed is not None:
         return Weighed(weighed.shoulders, labels)
-    shoulders = seen_shoulders(points, confidence)
+    shoulders = [point for point in seen_shoulders(points, confidence) if point is not None]
     return Weighed(shoulders, labels) if plausible_shoulders(shoulders) else None
-
-
-def seen_shoulders(points: np.ndarray, confidence: np.ndarray) -> list[np.ndarray]:
-    """The lifted shoulders, one hidden (a seated person's behind the objects on a high table)
-    mirrored from the other through the neck; fewer than two when neither way shows both."""
-    seen = [_keypoint(points, confidence, i) for i in (*SHOULDERS, NECK)]
-    right, left, neck = seen
-    if neck is not None and (right is None) != (left is None):
-        right, left = (
-            (mirrored_shoulder(neck, left), left)
-            if right is None
-            else (right, mirrored_shoulder(neck, right))
-        )
-    return [point for point in (right, left) if point is not None]
-
-
-def _keypoint(points: np.ndarray, confidence: np.ndarray, index: int) -> np.ndarray | None:
-    point = points[index]
-    return point if confidence[index] > 0 and np.isfinite(point).all() else None
 
 
 @dataclasses.dataclass(frozen=True)

@@ -89,14 +89,17 @@ class Receiving(enum.Enum):
 class ReceivingParams:
     """How this person takes an object: `takes` (False: never reaches, the robot must time
     out), the reaction time `reaction_s` (s) from the offer to the reach (and from seeing
-    another object lifted to asking again), the `arm`, whether the person asks again
-    when the robot lifts an object other than the one asked for (`corrects`,
-    `human.correcting`), and whether they ask again when the robot's hand has not moved for
-    `repeat_after_s` after the pointing ended (`repeats`, `human.repeating`)."""
+    another object lifted to asking again), the `arm` they prefer (the hand they hold out),
+    whether they take with `either_hand` (the one whose shoulder is nearer the object held
+    out; False: with `arm` only), whether the person asks again when the robot lifts an
+    object other than the one asked for (`corrects`, `human.correcting`), and whether they
+    ask again when the robot's hand has not moved for `repeat_after_s` after the pointing
+    ended (`repeats`, `human.repeating`)."""
 
     takes: bool = True
     reaction_s: float = 0.5
     arm: str = "right"
+    either_hand: bool = True
     corrects: bool = True
     repeats: bool = True
     repeat_after_s: float = 6.0
@@ -117,6 +120,7 @@ class Receiver:
         wanted: str = "",
     ):
         self._body, self._params, self._wanted = body, params, wanted
+        self.arm = params.arm  # the arm it reaches with, once it reaches
         self._rest = rest_posture(body, table_top)
         self.state = Receiving.WAITING
         self.grip = ""
@@ -142,8 +146,8 @@ class Receiver:
         posture: np.ndarray | None = None,
         touching: frozenset[str] = frozenset(),
     ) -> list[tuple[float, np.ndarray]]:
-        """Advance at `time` on the objects' centres, the hand's middle and the robot's
-        `gripper`, all in the person frame, the person's `posture` now (PERSON_JOINTS order;
+        """Advance at `time` on the objects' centres, the middle of the hand it reaches with
+        (`arm`) and the robot's `gripper`, all in the person frame, the person's `posture` now (PERSON_JOINTS order;
         the rest posture if None) and the objects the hand `touching` now; returns the
         postures to move to, as (time, posture) pairs (empty when nothing changes)."""
         if not self._params.takes or self.state is Receiving.DRAWN_IN:
@@ -183,8 +187,18 @@ class Receiver:
         self._closed_at = hand
         return True
 
+    def _arms(self) -> tuple[str, ...]:
+        """The arms it may take with, the preferred first."""
+        other = "left" if self._params.arm == "right" else "right"
+        return (self._params.arm, other) if self._params.either_hand else (self._params.arm,)
+
+    def _nearest_arm(self, point: np.ndarray) -> tuple[str, float]:
+        """The arm whose shoulder is nearest `point` (person frame) and how far it is (m)."""
+        reaches = [(arm, float(np.linalg.norm(point - self._body.shoulder(arm))))
+                   for arm in self._arms()]  # fmt: skip
+        return min(reaches, key=lambda reach: reach[1])
+
     def _watch(self, time: float, objects: dict[str, np.ndarray], gripper, posture) -> list:
-        shoulder = self._body.shoulder(self._params.arm)
         still = None
         for name, point in objects.items():
             before = self._last.get(name)
@@ -195,7 +209,7 @@ class Receiver:
             if self._wanted and name != self._wanted:
                 continue  # not what the person asked for
             speed = np.linalg.norm(point - before[1]) / (time - before[0])
-            if speed < STILL_SPEED and np.linalg.norm(point - shoulder) < self._reach:
+            if speed < STILL_SPEED and self._nearest_arm(point)[1] < self._reach:
                 still = name
         if still is None:
             self._offered = None
@@ -205,15 +219,16 @@ class Receiver:
         if time - self._offered[1] < STILL_S:
             return []
         self.state = Receiving.REACHING
+        self.arm = self._nearest_arm(objects[still])[0]
         start = time + self._params.reaction_s
-        arm = posture[arm_joint_indices(self._params.arm)]
-        reach = reach_point(self._body, self._params.arm, objects[still], gripper, arm)
+        arm = posture[arm_joint_indices(self.arm)]
+        reach = reach_point(self._body, self.arm, objects[still], gripper, arm)
         self._reach_for = (start, reach)
         self._away = (reach - objects[still]) / np.linalg.norm(reach - objects[still])
         return [(start, self._posture(start, reach))]
 
     def _posture(self, time: float, point: np.ndarray) -> np.ndarray:
-        action = Action(REACHES[0], time, None, np.asarray(point, dtype=float), self._params.arm)
+        action = Action(REACHES[0], time, None, np.asarray(point, dtype=float), self.arm)
         return target_posture(self._body, action, self._rest)
 
 

@@ -49,3 +49,23 @@ def torso_shoulder_depths(depths: np.ndarray, detected: np.ndarray) -> np.ndarra
         if not np.isfinite(own) or in_front:
             depths[shoulder] = mirrored
     return depths
+
+
+def seen_shoulders(
+    points: np.ndarray, confidence: np.ndarray
+) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """The lifted (right, left) shoulders of a COCO-18 skeleton (18 x 3, 18), one hidden (a
+    seated person's behind the objects on a high table, or behind their own pointing arm)
+    mirrored from the other through the neck; None for one neither way shows."""
+    seen = [_keypoint(points, confidence, i) for i in (*_SHOULDERS, _NECK)]
+    right, left, neck = seen
+    if neck is not None and right is None and left is not None:
+        right = mirrored_shoulder(neck, left)
+    elif neck is not None and left is None and right is not None:
+        left = mirrored_shoulder(neck, right)
+    return right, left
+
+
+def _keypoint(points: np.ndarray, confidence: np.ndarray, index: int) -> np.ndarray | None:
+    point = points[index]
+    return point if confidence[index] > 0 and np.isfinite(point).all() else None

@@ -178,9 +178,10 @@ class VariationConfig:
 class ReceivingConfig:
     """How the person takes an object the robot holds out (the world side of a handover):
     `takes` (false: never reaches, so the robot must give up), `reaction_s` from the offer
-    (the object still and within reach) to the reach, the `arm`, `corrects` (false: a
-    person who sees the robot lift another object than the one asked for does not ask again)
-    and `repeats` (false: a person whose request draws no response, the robot's hand still
+    (the object still and within reach) to the reach, the `arm` preferred (the hand held out),
+    `either_hand` (false: takes with `arm` only; true: with the hand whose shoulder is nearer
+    the object held out), `corrects` (false: a person who sees the robot lift another object
+    than the one asked for does not ask again) and `repeats` (false: a person whose request draws no response, the robot's hand still
     for `repeat_after_s` after the pointing ends, does not ask again). A person who asked for
     an object takes only that one.
 
@@ -189,6 +190,7 @@ class ReceivingConfig:
     takes: bool = ReceivingParams.takes
     reaction_s: float = ReceivingParams.reaction_s
     arm: str = ReceivingParams.arm
+    either_hand: bool = ReceivingParams.either_hand
     corrects: bool = ReceivingParams.corrects
     repeats: bool = ReceivingParams.repeats
     repeat_after_s: float = ReceivingParams.repeat_after_s

@@ -122,9 +122,9 @@ def _add_person(builder, plant, robot, person, objects, body, timeline, scenario
     """The person's actor (the script, and taking what the robot holds out) and the hand's
     grip on what it takes."""
     params = scenario.person.receiving.params()
-    hand = plant.GetBodyByName(f"{params.arm[0]}_hand", person)
+    hands = {arm: plant.GetBodyByName(f"{arm[0]}_hand", person) for arm in ("right", "left")}
     bodies = {name: _gripped_body(plant, instance) for name, instance in objects.items()}
-    world = _world_bodies(plant, robot, hand, objects, bodies, body.hand / 2, scenario)
+    world = _world_bodies(plant, robot, hands, objects, bodies, body.hand / 2, scenario)
     wanted = wanted_object(scenario)
     actor = builder.AddNamedSystem(
         "human_actor",
@@ -142,7 +142,8 @@ def _add_person(builder, plant, robot, person, objects, body, timeline, scenario
     )
     builder.Connect(plant.get_body_poses_output_port(), actor.GetInputPort("body_poses"))
     builder.Connect(plant.get_contact_results_output_port(), actor.GetInputPort("contact_results"))
-    grip = builder.AddNamedSystem("hand_grip", HandGrip(int(hand.index()), bodies))
+    indices = tuple(int(hand.index()) for hand in hands.values())
+    grip = builder.AddNamedSystem("hand_grip", HandGrip(indices, bodies))
     builder.Connect(actor.GetOutputPort("grip"), grip.GetInputPort("grip"))
     builder.Connect(plant.get_body_poses_output_port(), grip.GetInputPort("body_poses"))
     builder.Connect(
@@ -179,19 +180,21 @@ def _asked_again(body: BodyDimensions, scenario: Scenario, stream: int) -> list:
     return posture_changes(body, actions, scenario.table.height)[1:]  # not the rest at 0
 
 
-def _world_bodies(plant, robot, hand, objects, bodies, hand_middle, scenario) -> WorldBodies:
-    """What the receiving person watches: the hand, the objects, the robot's gripper, and the
-    geometries by which the hand touches the objects."""
+def _world_bodies(plant, robot, hands, objects, bodies, hand_middle, scenario) -> WorldBodies:
+    """What the receiving person watches: the hands, the objects, the robot's gripper, and the
+    geometries by which a hand touches the objects."""
     gripper = tuple(
         (int(plant.GetBodyByName(link, robot).index()), np.array(start), np.array(end), radius)
         for link, (start, end, radius) in GRIPPER_CAPSULES.items()
     )
-    touch = dict.fromkeys(plant.GetCollisionGeometriesForBody(hand), "")
+    touch = {geometry: "" for hand in hands.values()
+             for geometry in plant.GetCollisionGeometriesForBody(hand)}  # fmt: skip
     for name, instance in objects.items():
         for index in plant.GetBodyIndices(instance):
             touch |= dict.fromkeys(plant.GetCollisionGeometriesForBody(plant.get_body(index)), name)
     indices = {name: gripped.index for name, gripped in bodies.items()}
-    return WorldBodies(int(hand.index()), hand_middle, indices, person_pose(scenario), gripper,
+    hand_indices = {arm: int(hand.index()) for arm, hand in hands.items()}
+    return WorldBodies(hand_indices, hand_middle, indices, person_pose(scenario), gripper,
                        touch)  # fmt: skip
 
 

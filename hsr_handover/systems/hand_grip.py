@@ -41,6 +41,7 @@ class GrippedBody:
 @dataclasses.dataclass(frozen=True)
 class _Hold:
     name: str = ""
+    hand: int = -1  # the body index of the hand that closed on it
     X_HO: RigidTransform | None = None  # the object in the hand as the hand closed
 
     def __deepcopy__(self, memo: dict) -> _Hold:
@@ -51,12 +52,15 @@ class _Hold:
 
 class HandGrip(LeafSystem):
     """Inputs `grip` (the object's name or ""), `body_poses` and `body_spatial_velocities`
-    (the plant's); output `spatial_forces` for the plant's applied_spatial_force input. `hand`
-    is the hand's body index, `objects` what it may hold, by name."""
+    (the plant's); output `spatial_forces` for the plant's applied_spatial_force input.
+    `hands` are the hands' body indices (the one nearest the object closes on it), `objects`
+    what they may hold, by name."""
 
-    def __init__(self, hand: int, objects: dict[str, GrippedBody]):
+    def __init__(self, hands: tuple[int, ...], objects: dict[str, GrippedBody]):
         super().__init__()
-        self._hand, self._objects = hand, dict(objects)
+        if not hands:
+            raise ValueError("hands: expected at least one hand's body index")
+        self._hands, self._objects = tuple(hands), dict(objects)
         self._grip = self.DeclareAbstractInputPort("grip", AbstractValue.Make(""))
         self._poses = self.DeclareAbstractInputPort(
             "body_poses", AbstractValue.Make([RigidTransform()])
@@ -81,8 +85,11 @@ class HandGrip(LeafSystem):
             state.get_mutable_abstract_state(self._hold).set_value(_Hold())
             return
         poses = self._poses.Eval(context)
-        X_HO = poses[self._hand].inverse() @ poses[self._objects[name].index]
-        state.get_mutable_abstract_state(self._hold).set_value(_Hold(name, X_HO))
+        X_WO = poses[self._objects[name].index]
+        hand = min(self._hands, key=lambda index: np.linalg.norm(
+            poses[index].translation() - X_WO.translation()))  # fmt: skip
+        X_HO = poses[hand].inverse() @ X_WO
+        state.get_mutable_abstract_state(self._hold).set_value(_Hold(name, hand, X_HO))
 
     def _calc_forces(self, context: Context, output: AbstractValue) -> None:
         hold = context.get_abstract_state(self._hold).get_value()
@@ -90,11 +97,11 @@ class HandGrip(LeafSystem):
             output.set_value([])
             return
         held = self._objects[hold.name]
-        obj = held.index
+        obj, hand = held.index, hold.hand
         poses, velocities = self._poses.Eval(context), self._velocities.Eval(context)
-        X_WH, X_WO = poses[self._hand], poses[obj]
+        X_WH, X_WO = poses[hand], poses[obj]
         X_WT = X_WH @ hold.X_HO  # where the hand holds it
-        V_H, V_O = velocities[self._hand], velocities[obj]
+        V_H, V_O = velocities[hand], velocities[obj]
         p_HT = X_WT.translation() - X_WH.translation()
         v_T = V_H.translational() + np.cross(V_H.rotational(), p_HT)
         k, c = GRIP_FREQUENCY**2, 2.0 * GRIP_FREQUENCY  # per unit mass or inertia
@@ -110,7 +117,7 @@ class HandGrip(LeafSystem):
         on_object = _applied(obj, SpatialForce(torque, force))
         # Equal and opposite on the hand, at the object's origin.
         p_HO = X_WH.rotation().inverse() @ (X_WO.translation() - X_WH.translation())
-        on_hand = _applied(self._hand, SpatialForce(-torque, -force), p_HO)
+        on_hand = _applied(hand, SpatialForce(-torque, -force), p_HO)
         output.set_value([on_object, on_hand])
 
 

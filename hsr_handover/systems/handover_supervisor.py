@@ -32,7 +32,7 @@ from pydrake.common.value import AbstractValue
 from pydrake.systems.framework import BasicVector, Context, LeafSystem, State
 
 from hsr_handover.effectivity.arm_map import ArmEffectivity
-from hsr_handover.effectivity.person_map import RECEIVING_SIDE, HumanArm, receiving_arm
+from hsr_handover.effectivity.person_map import RECEIVING_SIDES, HumanArm, receiving_arms
 from hsr_handover.handover.cycle import Cycle, HandoverCycle, Motion, Percepts, Phase
 from hsr_handover.handover.gaze import look_at
 from hsr_handover.handover.look_round import (
@@ -64,13 +64,13 @@ another object comes into view until a request is recognised."""
 
 @dataclasses.dataclass
 class _Memory:
-    """What the supervisor carries between ticks: the cycle, the person's arm as last seen
+    """What the supervisor carries between ticks: the cycle, the person's arms as last seen
     with both shoulders, the way their torso faces (voted over the watch's frames: later, the
     robot's own arm comes between the camera and the chest), the head's aim, the scene
     with what is out of view remembered, and where it watches from."""
 
     cycle: HandoverCycle
-    arm: HumanArm | None = None
+    arms: tuple[HumanArm, ...] = ()
     facing: SteadyFacing = dataclasses.field(default_factory=SteadyFacing)
     head: tuple[float, float] | None = None  # (pan, tilt) rad while the cycle looks at a point
     scene: PerceivedScene | None = None
@@ -132,15 +132,15 @@ class HandoverSupervisor(LeafSystem):
         skeleton = self._skeleton.Eval(context)
         if memory.cycle.cycle.phase is Phase.WATCH:
             memory.facing = memory.facing.add(skeleton.torso_forward)
-        arm = receiving_arm([skeleton], memory.facing.direction())
-        memory.arm = arm if arm is not None else memory.arm
+        arms = receiving_arms([skeleton], memory.facing.direction())
+        memory.arms = arms or memory.arms
         memory.scene = remember(memory.scene, self._scene.Eval(context))
         if context.get_time() >= VIEW_AFTER_S:
             self._raise_view(context, skeleton, memory)
         if context.get_time() < LOOK_ROUND_S:  # it looks round before it acts
             return
-        self._planner.perceive(memory.scene, memory.arm)
-        percepts = self._percepts(context, skeleton, arm, memory)
+        self._planner.perceive(memory.scene, memory.arms)
+        percepts = self._percepts(context, skeleton, arms, memory)
         memory.cycle.step(percepts)
         point = memory.cycle.gaze()
         if point is None:
@@ -187,7 +187,7 @@ class HandoverSupervisor(LeafSystem):
 
     def _plan_raise(self, memory: _Memory, q: np.ndarray, posture: np.ndarray) -> Motion | None:
         """The planner's motion to the posture it watches from, None if it finds none."""
-        self._planner.perceive(memory.scene, memory.arm)
+        self._planner.perceive(memory.scene, memory.arms)
         planned = self._planner.posture(q, posture)
         return planned.motions[0][1] if planned.ok else None
 
@@ -200,7 +200,7 @@ class HandoverSupervisor(LeafSystem):
         return self._robot.positions()
 
     def _percepts(
-        self, context: Context, skeleton, arm: HumanArm | None, memory: _Memory
+        self, context: Context, skeleton, arms: tuple[HumanArm, ...], memory: _Memory
     ) -> Percepts:
         q = self._measured(context)
         opening = float(self._opening.Eval(context)[0])
@@ -210,6 +210,8 @@ class HandoverSupervisor(LeafSystem):
         for detection in self._detections.Eval(context).detections:
             if detection.label == wanted and np.all(np.isfinite(detection.center)):
                 seen = np.asarray(detection.center, dtype=float)
+        side = memory.cycle.cycle.receiving or RECEIVING_SIDES[0]
+        arm = next((arm for arm in arms if arm.side == side), None)
         person = _person_point(skeleton, arm)
         palm_pose = self._planner.palm_pose(q)
         palm = pads_centre(palm_pose)
@@ -220,7 +222,7 @@ class HandoverSupervisor(LeafSystem):
             else float(np.linalg.norm(palm - self._planner.palm(commanded)))
         )
         wrist_force = palm_pose.rotation() @ self._wrench.Eval(context)[3:]
-        return Percepts(context.get_time(), q, opening, target, seen, _wrist(skeleton), palm,
+        return Percepts(context.get_time(), q, opening, target, seen, _wrist(skeleton, side), palm,
                         person, float(pull), wrist_force, _face(skeleton),
                         self._correction(context, skeleton, memory))  # fmt: skip
 
@@ -274,7 +276,7 @@ class HandoverSupervisor(LeafSystem):
         output.set_value(self._memory_of(context).cycle.view)
 
 
-_WRIST = keypoint_index(f"{RECEIVING_SIDE}_wrist")
+_WRISTS = {side: keypoint_index(f"{side}_wrist") for side in RECEIVING_SIDES}
 _UPPER_BODY = tuple(keypoint_index(name) for name in ("neck", "r_shoulder", "l_shoulder"))
 _FACE = tuple(keypoint_index(name) for name in ("nose", "r_eye", "l_eye", "r_ear", "l_ear"))
 
@@ -287,9 +289,9 @@ def _keypoint(skeleton, index: int) -> np.ndarray | None:
     return point if np.all(np.isfinite(point)) else None
 
 
-def _wrist(skeleton) -> np.ndarray | None:
-    """The receiving wrist (m, world), None when not seen."""
-    return _keypoint(skeleton, _WRIST)
+def _wrist(skeleton, side: str) -> np.ndarray | None:
+    """The receiving wrist on `side` ("r" or "l"; m, world), None when not seen."""
+    return _keypoint(skeleton, _WRISTS[side])
 
 
 def _first_seen(skeleton, indices: tuple[int, ...]) -> np.ndarray | None:

@@ -26,13 +26,14 @@ RECEIVING_PERIOD = 0.05  # s between the person's looks at the world while waiti
 
 @dataclasses.dataclass(frozen=True)
 class WorldBodies:
-    """Where the receiving person looks in the plant's body poses: its hand (the hand's middle
-    `hand_middle` m below the hand body's origin, the wrist), the objects by name, the person
+    """Where the receiving person looks in the plant's body poses: its hands by arm ("right",
+    "left"; the hand's middle `hand_middle` m below the hand body's origin, the wrist), the
+    objects by name, the person
     frame's pose `X_WP`, and the robot's `gripper` (capsules: body, two ends in it, radius);
-    and in its contact results, the hand's geometries and each object's (`touch`: geometry
-    id to "" for the hand, or the object's name)."""
+    and in its contact results, the hands' geometries and each object's (`touch`: geometry
+    id to "" for a hand, or the object's name)."""
 
-    hand: int
+    hands: dict[str, int]
     hand_middle: float
     objects: dict[str, int]
     X_WP: RigidTransform
@@ -40,7 +41,7 @@ class WorldBodies:
     touch: dict[GeometryId, str] = dataclasses.field(default_factory=dict)
 
     def touching(self, results: ContactResults) -> frozenset[str]:
-        """The objects the hand touches in `results`."""
+        """The objects a hand touches in `results`."""
         touched = set()
         for a, b in contact_pairs(results):
             owners = {self.touch.get(a), self.touch.get(b)}
@@ -125,7 +126,8 @@ class HumanActor(LeafSystem):
         X_PW = world.X_WP.inverse()
         objects = {name: X_PW @ poses[index].translation()
                    for name, index in world.objects.items()}  # fmt: skip
-        hand = X_PW @ (poses[world.hand] @ np.array([0.0, 0.0, -world.hand_middle]))
+        hand_body = poses[world.hands[acting.receiver.arm]]
+        hand = X_PW @ (hand_body @ np.array([0.0, 0.0, -world.hand_middle]))
         gripper = [(X_PW @ (poses[body] @ start), X_PW @ (poses[body] @ end), radius)
                    for body, start, end, radius in world.gripper]  # fmt: skip
         time = context.get_time()

@@ -1,4 +1,5 @@
-"""The look round's memory of the person: the newest skeleton that shows both shoulders."""
+"""The look round's memory of the person: both arms from the newest skeleton that shows both
+shoulders (one of them mirrored through the neck when hidden)."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ from hsr_handover.effectivity.person_map import (
     FOREARM_PER_HEIGHT,
     SHOULDER_DEPTH,
     SHOULDER_WIDTH_PER_HEIGHT,
-    receiving_arm,
+    receiving_arms,
 )
 from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.perception.skeleton import Skeleton
@@ -18,33 +19,43 @@ from tests.intent.synthetic_person import keypoints
 
 def _skeleton(shift: float = 0.0, without: tuple[str, ...] = ()) -> Skeleton:
     points, confidence = keypoints()
-    confidence = confidence.copy()
+    points, confidence = points.copy(), confidence.copy()
+    shoulders = [keypoint_index("r_shoulder"), keypoint_index("l_shoulder")]
+    points[keypoint_index("neck")] = points[shoulders].mean(axis=0)  # OpenPose's: between them
     for name in without:
         confidence[keypoint_index(name)] = 0.0
     return Skeleton(np.zeros((18, 2)), points + [shift, 0.0, 0.0], confidence)
 
 
-def test_the_newest_skeleton_with_both_shoulders_gives_the_arm():
+def test_the_newest_skeleton_with_both_shoulders_gives_both_arms_the_right_first():
     newest, older = _skeleton(0.0), _skeleton(0.3)
-    arm = receiving_arm([newest, older])
-    assert arm.side == "r"
-    behind = newest.points[keypoint_index("r_shoulder")] - SHOULDER_DEPTH * arm.frame[:, 0]
-    np.testing.assert_allclose(arm.shoulder, behind)
+    right, left = receiving_arms([newest, older])
+    assert (right.side, left.side) == ("r", "l")
+    for arm, name in ((right, "r_shoulder"), (left, "l_shoulder")):
+        behind = newest.points[keypoint_index(name)] - SHOULDER_DEPTH * arm.frame[:, 0]
+        np.testing.assert_allclose(arm.shoulder, behind)
 
 
-def test_a_skeleton_without_a_shoulder_falls_back_to_the_last_glimpse():
-    out_of_view, glimpse = _skeleton(without=("l_shoulder",)), _skeleton(0.3)
-    arm = receiving_arm([out_of_view, glimpse])
-    behind = glimpse.points[keypoint_index("r_shoulder")] - SHOULDER_DEPTH * arm.frame[:, 0]
-    np.testing.assert_allclose(arm.shoulder, behind)
-    assert receiving_arm([out_of_view]) is None
-    assert receiving_arm([]) is None
+def test_a_skeleton_without_a_shoulder_or_neck_falls_back_to_the_last_glimpse():
+    out_of_view, glimpse = _skeleton(without=("l_shoulder", "neck")), _skeleton(0.3)
+    right, _ = receiving_arms([out_of_view, glimpse])
+    behind = glimpse.points[keypoint_index("r_shoulder")] - SHOULDER_DEPTH * right.frame[:, 0]
+    np.testing.assert_allclose(right.shoulder, behind)
+    assert receiving_arms([out_of_view]) == ()
+    assert receiving_arms([]) == ()
+
+
+def test_a_hidden_shoulder_is_mirrored_through_the_neck():
+    whole, hidden = _skeleton(), _skeleton(without=("r_shoulder",))
+    for seen, mirrored in zip(receiving_arms([whole]), receiving_arms([hidden]), strict=True):
+        np.testing.assert_allclose(mirrored.shoulder, seen.shoulder, atol=0.02)
+        assert mirrored.upper == pytest.approx(seen.upper, rel=0.05)
 
 
 def test_an_unseen_forearm_takes_the_bodys_proportions():
     skeleton = _skeleton(without=("r_wrist",))
     shoulders = skeleton.points[[keypoint_index("r_shoulder"), keypoint_index("l_shoulder")]]
     height = np.linalg.norm(shoulders[0] - shoulders[1]) / SHOULDER_WIDTH_PER_HEIGHT
-    unseen = receiving_arm([skeleton])
-    assert unseen.upper == pytest.approx(receiving_arm([_skeleton()]).upper)
+    unseen = receiving_arms([skeleton])[0]
+    assert unseen.upper == pytest.approx(receiving_arms([_skeleton()])[0].upper)
     assert unseen.forearm == pytest.approx(FOREARM_PER_HEIGHT * height)

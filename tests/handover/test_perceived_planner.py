@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from hsr_handover.effectivity.arm_map import load_or_build
+from hsr_handover.effectivity.person_map import HumanArm
 from hsr_handover.handover.perceived_planner import PerceivedPlanner
 from hsr_handover.hsr import BASE_JOINTS
 from hsr_handover.planning.perceived_scene import Capsule, PerceivedScene
@@ -14,7 +15,7 @@ from hsr_handover.planning.perceived_scene import Capsule, PerceivedScene
 @pytest.fixture(scope="module")
 def planner():
     planner = PerceivedPlanner(load_or_build()[0])
-    planner.perceive(PerceivedScene(None), None)
+    planner.perceive(PerceivedScene(None), ())
     return planner
 
 
@@ -56,15 +57,35 @@ def test_a_hand_whose_forearm_covers_the_aim_gets_the_object_beside_it():
     """The aim in front of a held-out hand lies inside the perceived forearm's capsule (the
     reference run's trial 53): the object is held out beside it instead."""
     scene_planner = PerceivedPlanner(load_or_build()[0])
-    scene_planner.perceive(PerceivedScene(None), None)
+    scene_planner.perceive(PerceivedScene(None), ())
     q = _arm_out(scene_planner)
     # As in trial 53: the wrist 32 cm beyond the object, its capsule running on 18 cm past it
     aim = scene_planner.palm(q) + [0.12, 0.0, 0.0]  # OFFER (20 cm) in front of the wrist
     forearm = Capsule(aim + [0.46, 0.0, 0.0], aim + [0.02, 0.0, 0.0], 0.095)
-    scene_planner.perceive(PerceivedScene(None, person=(forearm,)), None)
+    scene_planner.perceive(PerceivedScene(None, person=(forearm,)), ())
     planned = scene_planner.follow(q, np.zeros_like(q), aim, None)
     assert planned.ok, planned.reason
     end = planned.motions[-1][1].state(planned.motions[-1][1].duration)[0]
     palm = scene_planner.palm(end)
     assert np.linalg.norm(palm - aim) < 0.2  # beside the hand, not into it
     assert forearm.distance(palm)[0] > 0.05
+
+
+def test_the_carry_hands_to_the_other_arm_when_the_first_has_no_mutual_area():
+    """A person whose right hand no robot pose reaches (here its shoulder 3 m up) is handed
+    the object at the left; the plan says which arm it hands to."""
+    facing = np.column_stack([[-1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0]])
+    right = HumanArm("r", np.array([1.6, 0.2, 3.0]), facing, 0.32, 0.25, 0.09)
+    left = HumanArm("l", np.array([1.6, -0.2, 1.35]), facing, 0.32, 0.25, 0.09)
+    carrier = PerceivedPlanner(load_or_build()[0])
+    q = carrier.robot.plant.GetDefaultPositions()
+    carrier.perceive(PerceivedScene(None), (right, left))
+    planned = carrier.carry(q, None)
+    assert planned.ok, planned.reason
+    assert planned.receiving == "l"
+    end = planned.motions[-1][1].state(planned.motions[-1][1].duration)[0]
+    palm = carrier.palm(end)
+    assert np.linalg.norm(palm - left.shoulder) < left.reach
+    carrier.perceive(PerceivedScene(None), (right,))
+    refused = carrier.carry(q, None)
+    assert not refused.ok and refused.reason.startswith("right arm: no mutual area")

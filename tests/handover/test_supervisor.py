@@ -8,7 +8,7 @@ import pytest
 from pydrake.systems.analysis import Simulator
 
 from hsr_handover.effectivity.arm_map import load_or_build
-from hsr_handover.effectivity.person_map import receiving_arm
+from hsr_handover.effectivity.person_map import SHOULDER_DEPTH, receiving_arms
 from hsr_handover.handover.cycle import PATIENCE_S, SEEK_S, Failure, Phase
 from hsr_handover.handover.look_round import (
     LOOK_AROUND_PANS,
@@ -112,15 +112,20 @@ def test_while_it_lifts_it_watches_for_a_correction_itself_on_its_own_frames():
 
 def test_a_person_with_one_shoulder_hidden_is_still_in_view():
     """Presenting to a standing person at their chest, the robot's arm hides one shoulder: the
-    receiving arm's frame (both shoulders) is gone, but the person is not."""
+    arms take it mirrored through the neck; with the neck hidden too the arms' frame is gone,
+    but the person is not."""
     points = np.full((18, 3), np.nan)
     confidence = np.zeros(18)
     neck, shoulder = keypoint_index("neck"), keypoint_index("r_shoulder")
-    points[[neck, shoulder]] = [[1.5, 0.2, 1.5], [1.5, 0.35, 1.45]]
+    points[[neck, shoulder]] = [[1.5, 0.2, 1.5], [1.5, 0.05, 1.5]]
     confidence[[neck, shoulder]] = 0.9
     skeleton = Skeleton(np.zeros((18, 2)), points, confidence)
-    assert receiving_arm([skeleton]) is None
-    np.testing.assert_allclose(_person_point(skeleton, None), points[neck])
+    _, left = receiving_arms([skeleton])
+    np.testing.assert_allclose(left.shoulder + SHOULDER_DEPTH * left.frame[:, 0], [1.5, 0.35, 1.5])
+    confidence[neck] = 0.0
+    skeleton = Skeleton(np.zeros((18, 2)), points, confidence)
+    assert receiving_arms([skeleton]) == ()
+    np.testing.assert_allclose(_person_point(skeleton, None), points[shoulder])
     assert _person_point(Skeleton.missing("no person"), None) is None
 
 
@@ -147,14 +152,14 @@ def test_the_persons_arm_faces_the_way_the_chest_faced_while_it_watched(supervis
     system.GetInputPort("skeleton").FixValue(context, skeleton)
     Simulator(system, context).AdvanceTo(0.55)
     memory = context.get_abstract_state(0).get_value()
-    np.testing.assert_allclose(memory.arm.frame[:, 0], facing, atol=1e-9)
+    np.testing.assert_allclose(memory.arms[0].frame[:, 0], facing, atol=1e-9)
     memory.cycle.cycle.phase = Phase.APPROACH  # acting: the chest may read the robot's arm
     wrong = Skeleton(np.zeros((18, 2)), points, confidence, torso_forward=np.array([0, 1.0, 0]))
     system.GetInputPort("skeleton").FixValue(context, wrong)
     Simulator(system, context).AdvanceTo(1.55)
     memory = context.get_abstract_state(0).get_value()
     np.testing.assert_allclose(memory.facing.direction(), facing, atol=1e-9)
-    np.testing.assert_allclose(memory.arm.frame[:, 0], facing, atol=1e-9)
+    np.testing.assert_allclose(memory.arms[0].frame[:, 0], facing, atol=1e-9)
 
 
 _PLACES = {"red": (0.78, -0.3), "yellow": (0.92, -0.08), "green": (0.8, 0.14)}

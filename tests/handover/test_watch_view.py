@@ -16,7 +16,6 @@ from hsr_handover.handover.watch_view import (
     camera_rise,
     plausible_shoulders,
     reach_points,
-    seen_shoulders,
     watch_posture,
     weigh_now,
 )
@@ -24,6 +23,7 @@ from hsr_handover.hsr import CAMERA_FRAME, TORSO_JOINT
 from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.perception.object_shapes import BOX, CYLINDER, ObjectShape
 from hsr_handover.perception.pinhole import PinholeCamera
+from hsr_handover.perception.torso_depth import seen_shoulders
 from hsr_handover.planning.perceived_scene import PerceivedScene, behind
 from hsr_handover.planning.planning_scene import PlanningScene
 
@@ -170,7 +170,10 @@ def test_a_shoulder_hidden_behind_the_objects_is_mirrored_through_the_neck():
     np.testing.assert_allclose(both, SHOULDERS)
     one = seen_shoulders(*_skeleton(r_shoulder=SHOULDERS[0], neck=neck))
     np.testing.assert_allclose(one, SHOULDERS)
-    assert len(seen_shoulders(*_skeleton(r_shoulder=SHOULDERS[0]))) == 1  # no neck: no mirror
+    other = seen_shoulders(*_skeleton(l_shoulder=SHOULDERS[1], neck=neck))
+    np.testing.assert_allclose(other, SHOULDERS)
+    right, left = seen_shoulders(*_skeleton(r_shoulder=SHOULDERS[0]))  # no neck: no mirror
+    assert left is None and right is not None
 
 
 def test_the_view_is_weighed_first_with_both_shoulders_then_again_for_each_new_object():
