@@ -17,6 +17,9 @@ from hsr_handover.systems.human_actor import HumanActor, WorldBodies
 BODY = BodyDimensions.from_height(1.80, seated=False)
 
 
+HANDS = {"right": 0, "left": 0}  # both hands the one body here
+
+
 def _timeline() -> PostureTimeline:
     actions = [Action("point_at", 0.5, 2.0, np.array([1.0, 0.2, 0.9]), "left")]
     return PostureTimeline(posture_changes(BODY, actions))
@@ -70,7 +73,7 @@ def test_the_person_asks_again_when_the_robot_lifts_another_object():
     again = PostureTimeline([(0.0, np.zeros(len(PERSON_JOINTS)))])  # only its first posture
     pointing = _timeline().evaluate(3.0)[0]
     corrector = Corrector("blue", [(0.0, pointing)], reaction_s=0.5)
-    world = WorldBodies(hands={"right": 0, "left": 0}, hand_middle=0.09, objects={"red": 1, "blue": 2},
+    world = WorldBodies(hands=HANDS, hand_middle=0.09, objects={"red": 1, "blue": 2},
                         X_WP=RigidTransform())  # fmt: skip
     receiver = Receiver(BODY, ReceivingParams(), wanted="blue")
     actor = HumanActor(again, PERSON_JOINTS, receiver, world, corrector)
@@ -101,7 +104,7 @@ def test_the_person_asks_again_when_the_robots_hand_stays_still(moves: bool):
     request made again; with the hand set off in the meantime, it does not."""
     pointing = _timeline().evaluate(3.0)[0]
     capsule = ((3, np.zeros(3), np.array([0.0, 0.0, 0.05]), 0.01),)
-    world = WorldBodies(hands={"right": 0, "left": 0}, hand_middle=0.09, objects={"red": 1, "blue": 2},
+    world = WorldBodies(hands=HANDS, hand_middle=0.09, objects={"red": 1, "blue": 2},
                         X_WP=RigidTransform(), gripper=capsule)  # fmt: skip
     still = PostureTimeline([(0.0, np.zeros(len(PERSON_JOINTS)))])
     repeater = Repeater([(0.0, pointing)], ended=1.0, wait_s=2.0)

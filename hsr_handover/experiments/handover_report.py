@@ -25,8 +25,9 @@ CSV_COLUMNS = (
     "table_contact", "person_contact", "knocked", "person_knocked", "set_down_m", "table_contact_s",
     "person_contact_s", "dropped_s", "gripped_s", "released_s", "clearance_table_m",
     "clearance_person_m", "table_height_error_m", "recognition_s", "planning_s", "execution_s",
-    "watch_lift_m", "handed_to", "seed", "person_height_m", "person_x_m", "person_y_m", "person_yaw_rad",
-    "person_moved_back_m", "sim_s", "wall_s", "arm_nearest", "arm_error_deg", "error",
+    "watch_lift_m", "handed_to", "seed", "person_height_m", "person_x_m", "person_y_m",
+    "person_yaw_rad", "person_moved_back_m", "sim_s", "wall_s", "arm_nearest", "arm_error_deg",
+    "error",
 )  # fmt: skip
 
 

@@ -147,9 +147,10 @@ class Receiver:
         touching: frozenset[str] = frozenset(),
     ) -> list[tuple[float, np.ndarray]]:
         """Advance at `time` on the objects' centres, the middle of the hand it reaches with
-        (`arm`) and the robot's `gripper`, all in the person frame, the person's `posture` now (PERSON_JOINTS order;
-        the rest posture if None) and the objects the hand `touching` now; returns the
-        postures to move to, as (time, posture) pairs (empty when nothing changes)."""
+        (`arm`) and the robot's `gripper`, all in the person frame, the person's `posture`
+        now (PERSON_JOINTS order; the rest posture if None) and the objects the hand
+        `touching` now; returns the postures to move to, as (time, posture) pairs (empty
+        when nothing changes)."""
         if not self._params.takes or self.state is Receiving.DRAWN_IN:
             return []
         if self.state is Receiving.WAITING:

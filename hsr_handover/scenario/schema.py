@@ -181,9 +181,9 @@ class ReceivingConfig:
     (the object still and within reach) to the reach, the `arm` preferred (the hand held out),
     `either_hand` (false: takes with `arm` only; true: with the hand whose shoulder is nearer
     the object held out), `corrects` (false: a person who sees the robot lift another object
-    than the one asked for does not ask again) and `repeats` (false: a person whose request draws no response, the robot's hand still
-    for `repeat_after_s` after the pointing ends, does not ask again). A person who asked for
-    an object takes only that one.
+    than the one asked for does not ask again) and `repeats` (false: a person whose request
+    draws no response, the robot's hand still for `repeat_after_s` after the pointing ends,
+    does not ask again). A person who asked for an object takes only that one.
 
     Ranges: reaction_s in [0, 10] s; arm "right" or "left"; repeat_after_s in [0.5, 30] s."""
 
