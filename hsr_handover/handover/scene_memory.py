@@ -32,10 +32,13 @@ def remember(last: PerceivedScene | None, scene: PerceivedScene) -> PerceivedSce
     into the arm that had come to rest on the table (the moved layout's trial 9 of seed 2).
     A part not seen now is forgotten where the camera now sees through its place
     (`_seen_through`), and an arm's part unseen for ARM_MEMORY_S while the rest of the person
-    is seen (`_stale`): a pointing arm lowered out of sight below the table's edge was kept
-    pointing, and the object it had pointed at stayed unreachable behind it for the rest of
-    the trial (the staggered layout's trials 13 and 21 of seed 1: its wrist had been lifted
-    onto the object, so the camera saw the object, not through it, where the arm had been)."""
+    is seen and its place is in sight (`_stale`): a pointing arm lowered out of sight below
+    the table's edge was kept pointing, and the object it had pointed at stayed unreachable
+    behind it for the rest of the trial (the staggered layout's trials 13 and 21 of seed 1:
+    its wrist had been lifted onto the object, so the camera saw the object, not through it,
+    where the arm had been). An arm out of view, or behind something nearer, is kept: a hand
+    held out toward the robot, out of view while the camera watched its own grasp, was
+    forgotten, and the carry was planned through it."""
     if last is None:
         return scene
     then = {shape.label: shape for shape in last.objects}
@@ -47,7 +50,7 @@ def remember(last: PerceivedScene | None, scene: PerceivedScene) -> PerceivedSce
         capsule
         for capsule in last.person
         if capsule.part not in parts
-        and not _stale(capsule, time)
+        and not _stale(capsule, time, scene.view)
         and not _seen_through(capsule, scene.view)
     )
     return dataclasses.replace(
@@ -58,10 +61,28 @@ def remember(last: PerceivedScene | None, scene: PerceivedScene) -> PerceivedSce
     )
 
 
-def _stale(capsule: Capsule, time: float) -> bool:
+def _stale(capsule: Capsule, time: float, view: DepthView | None) -> bool:
     """Whether `capsule` is an arm's part last seen ARM_MEMORY_S or longer before `time` (s;
-    NaN, the person not seen now, when nothing is stale)."""
-    return capsule.part in ARM_PARTS and time - capsule.seen_at >= ARM_MEMORY_S
+    NaN, the person not seen now, when nothing is stale) whose place the `view` shows (no view
+    kept: taken as shown)."""
+    unseen_long = capsule.part in ARM_PARTS and time - capsule.seen_at >= ARM_MEMORY_S
+    return unseen_long and (view is None or _in_sight(capsule, view))
+
+
+def _axis_depths_past(capsule: Capsule, view: DepthView) -> np.ndarray:
+    """`view.depth_past` at SIGHT_SAMPLES points along the capsule's axis, the measured ones
+    (+inf: nothing in range behind)."""
+    axis = np.linspace(0.0, 1.0, SIGHT_SAMPLES)[:, None] * (capsule.end - capsule.start)
+    past = view.depth_past(capsule.start + axis)
+    return past[~np.isnan(past)]
+
+
+def _in_sight(capsule: Capsule, view: DepthView) -> bool:
+    """Whether the camera sees where `capsule` is: at most of the points along its axis, a
+    surface is measured no nearer than the capsule's radius in front of it (not out of view,
+    not hidden by something nearer)."""
+    past = _axis_depths_past(capsule, view)
+    return np.count_nonzero(past >= -capsule.radius) > SIGHT_SAMPLES / 2
 
 
 def _seen_through(capsule: Capsule, view: DepthView | None) -> bool:
@@ -70,9 +91,7 @@ def _seen_through(capsule: Capsule, view: DepthView | None) -> bool:
     (a part hidden by something nearer, or out of view, is not seen through)."""
     if view is None:
         return False
-    axis = np.linspace(0.0, 1.0, SIGHT_SAMPLES)[:, None] * (capsule.end - capsule.start)
-    past = view.depth_past(capsule.start + axis)
-    measured = past[~np.isnan(past)]  # +inf: nothing in range behind it
+    measured = _axis_depths_past(capsule, view)
     return measured.size > 0 and np.count_nonzero(measured > capsule.radius) > measured.size / 2
 
 

@@ -111,11 +111,18 @@ def test_an_arm_unseen_for_a_while_is_forgotten_while_the_person_is_seen():
     last = PerceivedScene(TABLE, (), seen_then)
     body = dataclasses.replace(_capsules(1)[0], part=BODY_PART)
 
-    def parts(time: float) -> set[str]:
-        now = PerceivedScene(TABLE, (), (dataclasses.replace(body, seen_at=time),))
+    def parts(time: float, view: DepthView | None = None) -> set[str]:
+        now = PerceivedScene(TABLE, (), (dataclasses.replace(body, seen_at=time),), view)
         return {capsule.part for capsule in remember(last, now).person}
 
     assert parts(6.0 + ARM_MEMORY_S - 0.1) == {*arm, "neck-nose", BODY_PART}
     assert parts(6.0 + ARM_MEMORY_S) == {"neck-nose", BODY_PART}  # a head does not move off
+    # The camera sees a surface where the arm was (the object its wrist was lifted onto).
+    at_the_arm = _view_from_above(3.0 - 0.75)
+    assert parts(6.0 + ARM_MEMORY_S, at_the_arm) == {"neck-nose", BODY_PART}
+    # Its place out of view, or behind something nearer (the robot's own arm), it is kept: a
+    # hand held out while the camera watched the grasp (the carry was planned through it).
+    for unseen in (_view_from_above(np.nan), _view_from_above(3.0 - 1.2)):
+        assert parts(6.0 + ARM_MEMORY_S, unseen) == {*arm, "neck-nose", BODY_PART}
     # The person out of view (the robot looks at its hand): nothing is forgotten.
     assert len(remember(last, PerceivedScene(TABLE)).person) == 3
