@@ -155,9 +155,14 @@ def test_an_arm_whose_elbow_is_hidden_keeps_its_capsules():
     assert len(hidden) == len(seen_whole)
     hand = np.array([[1.5 - HAND_LENGTH + 0.03, -0.2, 1.35], [1.75, -0.2, 1.35]])
     assert (np.min([capsule.distance(hand) for capsule in hidden], axis=0) < 0).all()
-    # Without both shoulders there are no proportions to go by: the arm stays unseen.
+    # A hidden shoulder is mirrored through the neck; without it and the neck there are no
+    # proportions to go by, and the arm stays unseen.
     confidence[keypoint_index("l_shoulder")] = 0.0
-    assert len(person_capsules(points, confidence, camera)) == len(seen_whole) - 3
+    mirrored = person_capsules(points, confidence, camera)
+    assert (np.min([capsule.distance(hand) for capsule in mirrored], axis=0) < 0).all()
+    confidence[keypoint_index("neck")] = 0.0
+    unseen = {capsule.part for capsule in person_capsules(points, confidence, camera)}
+    assert not unseen & {"r_shoulder-r_elbow", "r_elbow-r_wrist"}
 
 
 def test_open_edges_run_on_unseen_but_never_under_the_robot():
