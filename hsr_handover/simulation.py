@@ -122,8 +122,7 @@ def session_settings(scenario: Scenario) -> dict:
     and intent settings and the seed, as a scenario file's sections
     (`offline_intent.perceive_session` reads them)."""
     perception = dataclasses.asdict(scenario.perception)
-    for key in ("enabled", "attention", "skeleton_recording", "pixel_sigma",
-                "face_drop_probability"):  # fmt: skip
+    for key in ("enabled", "attention", "skeleton_recording", "detector"):
         perception.pop(key)  # the world's sensor model, or not the robot's to replay
     return {
         "simulation": {"seed": scenario.simulation.seed},

@@ -4,6 +4,7 @@ and the sensor on the rendered pointing scene."""
 
 from __future__ import annotations
 
+import dataclasses
 import io
 
 import numpy as np
@@ -12,7 +13,8 @@ from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.systems.analysis import Simulator
 from pydrake.systems.sensors import ImageDepth32F
 
-from hsr_handover.perception.coco18 import COCO18_KEYPOINTS
+from hsr_handover.perception.coco18 import COCO18_KEYPOINTS, FACE_KEYPOINTS
+from hsr_handover.perception.detector_model import DetectorModel, DetectorState
 from hsr_handover.perception.openpose_json import (
     read_openpose_frames,
     read_openpose_json,
@@ -21,12 +23,10 @@ from hsr_handover.perception.openpose_json import (
 )
 from hsr_handover.perception.pinhole import PinholeCamera
 from hsr_handover.perception.skeleton import (
-    FACE_KEYPOINTS,
     NO_VALID_DEPTH,
     NOT_IN_VIEW,
     Detection,
     Skeleton,
-    SkeletonNoise,
     detect_keypoints,
     keypoint_index,
     lift_detection,
@@ -40,7 +40,8 @@ from tests.conftest import SCENARIOS
 
 CAMERA = PinholeCamera.from_fov_x(320, 240, 1.05)
 X_WC = np.eye(4)
-EXACT = SkeletonNoise(pixel_sigma=0.0, face_drop_probability=0.0)
+EXACT = dataclasses.replace(DetectorModel.ideal(), pixel_sigma=0.0, miss_rate=(0.0,) * 4)
+IDEAL = DetectorModel.ideal()
 SURFACE_OFFSET = 0.02
 BODY_RADIUS_PX = 12
 
@@ -67,10 +68,11 @@ def _synthetic_depth(offset: float = SURFACE_OFFSET) -> np.ndarray:
     return np.where(distance.min(axis=2) <= BODY_RADIUS_PX, surface, np.inf).astype(np.float32)
 
 
-def _simulate(depth=None, noise=EXACT, seed=0, X=X_WC) -> Skeleton:
+def _simulate(depth=None, noise=EXACT, seed=0, X=X_WC, state=None) -> Skeleton:
     depth = _synthetic_depth() if depth is None else depth
     # The simulated sensor, then the robot's lifting of what it reported.
-    detection = detect_keypoints(KEYPOINTS, CAMERA, X, depth, noise, np.random.default_rng(seed))
+    rng = np.random.default_rng(seed)
+    detection = detect_keypoints(KEYPOINTS, CAMERA, X, depth, noise, rng, state)
     return lift_detection(detection, depth, CAMERA, X)
 
 
@@ -91,7 +93,7 @@ def test_exact_detection_is_the_projection_and_lifts_the_surface():
 
 
 def test_pixel_noise_has_the_configured_sigma():
-    noise = SkeletonNoise(pixel_sigma=3.0, face_drop_probability=0.0)
+    noise = dataclasses.replace(EXACT, pixel_sigma=3.0)
     depth, true_pixels = _synthetic_depth(), CAMERA.project(KEYPOINTS, X_WC)[0]
     errors = []
     for seed in range(200):
@@ -122,7 +124,7 @@ def test_an_occluder_hides_the_wrist_and_nothing_else():
     depth = _synthetic_depth()
     u, v = np.rint(CAMERA.project(KEYPOINTS[[WRIST]], X_WC)[0][0]).astype(int)
     depth[v - 4 : v + 5, u - 4 : u + 5] = 1.2
-    noise = SkeletonNoise(pixel_sigma=1.0, face_drop_probability=0.3)
+    noise = dataclasses.replace(IDEAL, pixel_sigma=1.0, miss_rate=(0.3, 0, 0, 0))
     clear, occluded = _simulate(noise=noise, seed=5), _simulate(depth, noise=noise, seed=5)
     assert clear.confidence[WRIST] > 0 and occluded.confidence[WRIST] == 0
     others = np.arange(18) != WRIST
@@ -139,11 +141,12 @@ def test_own_limb_in_front_of_a_joint_does_not_hide_it():
     assert _simulate(depth).confidence[elbow] > 0
 
 
-def test_face_drop_probability():
+def test_keypoints_in_a_missed_run_are_missing():
     face = [keypoint_index(name) for name in FACE_KEYPOINTS]
-    always = SkeletonNoise(pixel_sigma=0.0, face_drop_probability=1.0)
-    assert np.all(_simulate(noise=always).confidence[face] == 0)
-    assert np.all(_simulate(noise=always).confidence[keypoint_index("neck")] > 0)
+    missing = np.isin(np.arange(len(KEYPOINTS)), face)
+    state = dataclasses.replace(DetectorState.start(), missing=missing)
+    assert np.all(_simulate(state=state).confidence[face] == 0)
+    assert np.all(_simulate(state=state).confidence[keypoint_index("neck")] > 0)
     for seed in range(20):
         assert np.all(_simulate(noise=EXACT, seed=seed).confidence[face] > 0)
 
@@ -167,21 +170,21 @@ def test_lifting_uses_the_window_median_and_keeps_pixels_without_depth():
 
 def test_all_nan_depth_gives_an_empty_skeleton_that_says_why():
     depth = np.full((CAMERA.height, CAMERA.width), np.nan, dtype=np.float32)
-    skeleton = _simulate(depth, noise=SkeletonNoise())
+    skeleton = _simulate(depth, noise=IDEAL)
     assert skeleton.is_empty and np.all(skeleton.confidence == 0)
     assert skeleton.status == NO_VALID_DEPTH
 
 
 def test_camera_facing_away_sees_no_person():
     turned = X_WC @ RigidTransform(RollPitchYaw(0, np.pi, 0), np.zeros(3)).GetAsMatrix4()
-    skeleton = _simulate(noise=SkeletonNoise(), X=turned)
+    skeleton = _simulate(noise=IDEAL, X=turned)
     assert skeleton.is_empty and np.all(skeleton.confidence == 0)
     assert skeleton.status == NOT_IN_VIEW
     assert np.isnan(skeleton.pixels).all() and np.isnan(skeleton.points).all()
 
 
 def test_openpose_json_round_trip(tmp_path):
-    noisy = _simulate(noise=SkeletonNoise(face_drop_probability=0.5), seed=3)
+    noisy = _simulate(noise=dataclasses.replace(IDEAL, miss_rate=(0.5, 0, 0, 0)), seed=3)
     people = [noisy.detection(), _simulate().detection()]
     path = tmp_path / "frame_000000000000_keypoints.json"
     write_openpose_json(path, people)
@@ -341,7 +344,7 @@ def test_sensor_captures_the_person_at_the_cameras_capture_instant():
 def test_sensor_sees_the_pointing_arm_where_it_is(pointing_scene):
     station, inputs, truth = pointing_scene
     camera = station.scenario.camera.pinhole()
-    skeleton = _skeleton(station, inputs, SkeletonNoise(face_drop_probability=0.0))
+    skeleton = _skeleton(station, inputs, EXACT)
     assert skeleton.status == "ok"
     # The upper body is in view, in front of the table; hips and legs are behind it or below.
     upper = [keypoint_index(n) for n in ("nose", "neck", "r_shoulder", "r_elbow", "r_wrist")]

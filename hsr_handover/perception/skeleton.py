@@ -5,9 +5,10 @@ The paper detects the person with OpenPose: 18 keypoints in the COCO order
 depth image. This module models that sensor on numpy arrays:
 
 - `detect_keypoints` turns the person's true keypoints into what OpenPose reports: the
-  projection plus pixel noise, face points dropped at random (OpenPose often misses them),
-  nothing for keypoints out of view or hidden behind something (the far arm when the right
-  hand points left), and a confidence that falls near the image border.
+  projection erring as a `DetectorModel` says (a persistent bias and frame jitter, misses in
+  runs, swapped arms, a wrist on an object: `perception.detector_model`), nothing for
+  keypoints out of view or hidden behind something (the far arm when the right hand points
+  left), and a confidence that falls near the image border.
 - `lift_keypoints` turns 2-D keypoints, simulated or recorded, into world points with the
   depth image. The point it gives is the body SURFACE seen at the keypoint's pixel, not the
   joint centre: a few cm nearer the camera (the limb's radius; up to about 13 cm at a
@@ -28,17 +29,20 @@ import numpy as np
 from hsr_handover.perception.body_check import body_consistent
 from hsr_handover.perception.chest_plane import chest_forward
 from hsr_handover.perception.coco18 import (
-    COCO18_KEYPOINTS,
     COCO18_LIMBS,
-    FACE_KEYPOINTS,
     NUM_KEYPOINTS,
     keypoint_index,
 )
+from hsr_handover.perception.detector_model import (
+    ARM_KEYPOINTS,
+    KEYPOINT_SHARE,
+    WRISTS,
+    DetectorModel,
+    DetectorState,
+    advance,
+)
 from hsr_handover.perception.pinhole import PinholeCamera, valid_depth
 from hsr_handover.perception.torso_depth import torso_shoulder_depths
-
-_FACE_INDICES = np.array([COCO18_KEYPOINTS.index(name) for name in FACE_KEYPOINTS])
-
 
 STATUS_OK = "ok"
 NOT_IN_VIEW = "person not in view"
@@ -47,6 +51,9 @@ ALL_HIDDEN = "person hidden: no keypoint visible"
 NONE_DETECTED = "no keypoints detected"
 NO_DEPTH_IMAGE = "no depth image"
 
+# A spurious keypoint's confidence, as a share of a true one's: OpenPose's part maps peak lower on
+# an object taken for a hand.
+SPURIOUS_CONFIDENCE = (0.2, 0.5)
 # OpenPose-like confidences: high inside the image, lower where a keypoint's surroundings
 # are cut off by the border (OpenPose scores a part by the image evidence around it).
 INTERIOR_CONFIDENCE = 0.9
@@ -170,38 +177,6 @@ class Keypoint(NamedTuple):
     confidence: float
 
 
-@dataclasses.dataclass(frozen=True)
-class SkeletonNoise:
-    """How the simulated detector errs.
-
-    `pixel_sigma`: Gaussian pixel noise (px, per axis). `face_drop_probability`: chance that
-    each face keypoint (nose, eyes, ears) goes missing, independently (OpenPose misses face
-    points often, paper 3.2). `occlusion_margin` (m): a keypoint is hidden when the depth
-    image shows a surface nearer than the keypoint by more than this, unless that surface is
-    the person's own body around the keypoint: within `own_body_radius` (m) of a bone meeting
-    at it (limbs are 3.5-7 cm thick, the trunk's front is 11 cm from its midline, and an arm
-    raised toward the camera covers its own shoulder and elbow without hiding them).
-    """
-
-    pixel_sigma: float = 2.0
-    face_drop_probability: float = 0.1
-    occlusion_margin: float = 0.05
-    own_body_radius: float = 0.12
-
-    def __post_init__(self) -> None:
-        if not self.pixel_sigma >= 0:
-            raise ValueError(f"pixel_sigma: expected >= 0, got {self.pixel_sigma}")
-        if not 0 <= self.face_drop_probability <= 1:
-            raise ValueError(
-                f"face_drop_probability: expected in [0, 1], got {self.face_drop_probability}"
-            )
-        if not (self.occlusion_margin >= 0 and self.own_body_radius >= 0):
-            raise ValueError(
-                "occlusion_margin, own_body_radius: expected >= 0, got "
-                f"{self.occlusion_margin}, {self.own_body_radius}"
-            )
-
-
 def checked_depth(depth: np.ndarray, camera: PinholeCamera) -> np.ndarray:
     """The depth image (H, W) as an array, after checking it is the camera's size."""
     depth = np.asarray(depth)
@@ -237,9 +212,10 @@ def hidden_keypoints(
     camera: PinholeCamera,
     X_WC: np.ndarray,
     depth: np.ndarray,
-    noise: SkeletonNoise,
+    noise: DetectorModel,
 ) -> np.ndarray:
-    """(18,) bool: in-view keypoints that something else hides (see `SkeletonNoise`).
+    """(18,) bool: in-view keypoints that something else hides (see `DetectorModel`'s
+    `occlusion_margin` and `own_body_radius`).
 
     A depth of 0 (too near to measure) hides; NaN and +inf (nothing in range) do not.
     """
@@ -260,7 +236,7 @@ _WRIST_ELBOW = {keypoint_index(f"{s}_wrist"): keypoint_index(f"{s}_elbow") for s
 
 
 def _foreign_surface(
-    surface: np.ndarray, index: int, keypoints_W: np.ndarray, noise: SkeletonNoise
+    surface: np.ndarray, index: int, keypoints_W: np.ndarray, noise: DetectorModel
 ) -> bool:
     """Whether a surface point is farther than `own_body_radius` from every bone that meets
     at keypoint `index`, so it belongs to something else."""
@@ -286,29 +262,51 @@ def detect_keypoints(
     camera: PinholeCamera,
     X_WC: np.ndarray,
     depth: np.ndarray,
-    noise: SkeletonNoise,
+    model: DetectorModel,
     rng: np.random.Generator,
+    state: DetectorState | None = None,
 ) -> Detection:
     """What a pose detector reports for a person whose true COCO-18 keypoints (18, 3) are
-    `keypoints_W`, seen by `camera` at pose `X_WC` (4 x 4) with depth image `depth` (H, W) (m).
+    `keypoints_W`, seen by `camera` at pose `X_WC` (4 x 4) with depth image `depth` (H, W) (m),
+    erring as `model` says with the persistent errors of `state` (`detector_model.advance`;
+    None: a first frame's, drawn from `rng`).
 
     The random draws have fixed sizes, so a generator seeded the same way gives the same
     noise whichever keypoints are visible.
     """
     keypoints_W = np.asarray(keypoints_W, dtype=float).reshape(NUM_KEYPOINTS, 3)
     depth = checked_depth(depth, camera)
-    pixel_noise = noise.pixel_sigma * rng.standard_normal((NUM_KEYPOINTS, 2))
-    face_dropped = rng.random(len(_FACE_INDICES)) < noise.face_drop_probability
-    true_pixels, _, in_view = camera.project_in_view(keypoints_W, X_WC)
+    jitter_sd = model.joint_error_m * np.sqrt(1.0 - model.bias_share) * KEYPOINT_SHARE[:, None]
+    jitter_m = jitter_sd * rng.standard_normal((NUM_KEYPOINTS, 2))
+    jitter_px = model.pixel_sigma * rng.standard_normal((NUM_KEYPOINTS, 2))
+    doubt = model.confidence_spread * rng.random(NUM_KEYPOINTS)
+    if state is None:
+        state = advance(DetectorState.start(), keypoints_W, np.zeros((0, 3)), 0.0, model, rng)
+    true_pixels, keypoint_depth, in_view = camera.project_in_view(keypoints_W, X_WC)
     if not in_view.any():
         return Detection.missing(NOT_IN_VIEW)
-    pixels = true_pixels + pixel_noise
+    at_depth = np.where(in_view, keypoint_depth, 1.0)[:, None]
+    metres_to_px = np.array([camera.fx, camera.fy]) / at_depth
+    pixels = true_pixels + (state.bias + jitter_m) * metres_to_px + jitter_px
     detected = in_view & camera.contains(pixels)
-    detected &= ~hidden_keypoints(keypoints_W, camera, X_WC, depth, noise)
-    detected[_FACE_INDICES[face_dropped]] = False
+    detected &= ~hidden_keypoints(keypoints_W, camera, X_WC, depth, model)
+    detected &= ~state.missing
+    confidence = border_confidence(pixels, camera) * (1.0 - doubt)
+    for k, wrist in enumerate(WRISTS):
+        if np.isfinite(state.spurious[k]).all():  # on the object instead
+            on_object, _, seen = camera.project_in_view(state.spurious[k][None], X_WC)
+            if seen[0]:
+                pixels[wrist] = on_object[0] + jitter_px[wrist]
+                detected[wrist] = camera.contains(pixels[wrist : wrist + 1])[0]
+                low, high = SPURIOUS_CONFIDENCE
+                confidence[wrist] *= low + (high - low) * doubt[wrist]
+    if state.swapped:
+        right, left = ARM_KEYPOINTS["r"], ARM_KEYPOINTS["l"]
+        for array in (pixels, detected, confidence):
+            array[right + left] = array[left + right]
     if not detected.any():
         return Detection.missing(ALL_HIDDEN)
-    confidence = np.where(detected, border_confidence(pixels, camera), 0.0)
+    confidence = np.where(detected, confidence, 0.0)
     return Detection(np.where(detected[:, None], pixels, np.nan), confidence)
 
 

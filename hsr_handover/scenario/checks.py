@@ -400,6 +400,17 @@ def _check_person(scenario: Scenario, fail: Fail) -> None:
         _numbers(fail, f"{key}.point", action.point, ROOM, layout)
 
 
+def _check_detector(scenario: Scenario, fail: Fail) -> None:
+    """The detector's scale and fields in their ranges; DetectorModel names the field."""
+    detector = scenario.perception.detector
+    _number(fail, "perception.detector.scale", detector.scale, Interval(0, 10, "factor"))
+    try:
+        detector.model()
+    except ValueError as error:
+        field_name, _, expected = str(error).partition(": ")
+        fail(f"perception.detector.{field_name}", expected)
+
+
 def _check_intent(scenario: Scenario, fail: Fail) -> None:
     """Each field in its range (NaN included); IntentParams names the field its message is
     about."""
@@ -463,10 +474,7 @@ def _check_perception(scenario: Scenario, fail: Fail) -> None:
     _number(fail, "perception.signals_per_frame", perception.signals_per_frame, COUNT)
     weight = Interval(1, 1e4, "sampling weight")
     _number(fail, "perception.attention_weight", perception.attention_weight, weight)
-    sigma = Interval(0, 100, "px")
-    _number(fail, "perception.pixel_sigma", perception.pixel_sigma, sigma)
-    probability = Interval(0, 1)
-    _number(fail, "perception.face_drop_probability", perception.face_drop_probability, probability)
+    _check_detector(scenario, fail)
     _check_gng(scenario, fail)
     _check_skeleton_recording(scenario, fail)
     names = sorted(obj.name for obj in scenario.objects)

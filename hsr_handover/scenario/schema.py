@@ -18,6 +18,7 @@ from hsr_handover.human.receiving import ReceivingParams
 from hsr_handover.intent import IntentParams
 from hsr_handover.perception.attention import DEFAULT_ATTENTION_WEIGHT
 from hsr_handover.perception.cloud_map import SCENE_GNG_PARAMS, SIGNALS_PER_FRAME
+from hsr_handover.perception.detector_model import PRESETS, DetectorModel
 from hsr_handover.perception.openpose_format import DEFAULT_KEYPOINT_SCALE, DEFAULT_MODEL
 from hsr_handover.perception.pinhole import PinholeCamera
 from hsr_handover.scenario.typed_yaml import YAML_KEY, shorten
@@ -298,13 +299,57 @@ class SkeletonRecordingConfig:
 
 
 @dataclasses.dataclass
+class DetectorConfig:
+    """The simulated pose detector (`hsr_handover.perception.detector_model`, where the figures
+    come from): `preset` "realistic" (OpenPose's measured errors: a persistent bias and frame
+    jitter, misses in runs, swapped arms, a wrist on an object) or "ideal" (2 px of independent
+    jitter at 640 x 480 and face points dropped in a tenth of frames, nothing else); any of
+    DetectorModel's fields set here replaces the preset's; then every error size and rate is
+    multiplied by `scale`.
+
+    Ranges: preset one of ["realistic", "ideal"]; scale in [0, 10]; each field as
+    `DetectorModel` states (joint_error_m [0, 0.2] m, pixel_sigma [0, 100] px, bias_share
+    [0, 1], bias_time_s (0, 100] s, bias_motion_m (0, 10] m, miss_rate four rates (face,
+    wrist, elbow, body) each [0, 0.9], the rates [0, 0.9], the runs [0, 10] s,
+    spurious_reach_m [0, 2] m, confidence_spread [0, 0.5], occlusion_margin and
+    own_body_radius [0, 1] m)."""
+
+    preset: str = "realistic"
+    scale: float = 1.0
+    joint_error_m: float | None = None
+    pixel_sigma: float | None = None
+    bias_share: float | None = None
+    bias_time_s: float | None = None
+    bias_motion_m: float | None = None
+    miss_rate: list[float] | None = None
+    miss_run_s: float | None = None
+    swap_rate: float | None = None
+    swap_run_s: float | None = None
+    spurious_rate: float | None = None
+    spurious_run_s: float | None = None
+    spurious_reach_m: float | None = None
+    confidence_spread: float | None = None
+    occlusion_margin: float | None = None
+    own_body_radius: float | None = None
+
+    def model(self) -> DetectorModel:
+        """The detector model (raises ValueError naming a field out of range)."""
+        fields = dataclasses.asdict(self)
+        preset, scale = fields.pop("preset"), fields.pop("scale")
+        if preset not in PRESETS:
+            raise ValueError(f"preset: expected one of {list(PRESETS)}, got {preset!r}")
+        overrides = {name: value for name, value in fields.items() if value is not None}
+        return dataclasses.replace(PRESETS[preset](), **overrides).scaled(scale)
+
+
+@dataclasses.dataclass
 class PerceptionConfig:
     """The robot's perception, off unless `enabled`: the head camera's depth is downsampled to
     `cloud_size` [width, height] (the paper's 200 x 200), lifted to a world point cloud, cropped
     to `workspace` [x, y, z lower, x, y, z upper] (m) and learnt by the scene GNG with
     `signals_per_frame` signals per camera frame; attended regions are sampled `attention_weight`
-    times more often. The skeleton sensor adds `pixel_sigma` pixels of noise and drops each
-    face keypoint with `face_drop_probability`; with `skeleton_recording`, it plays a recording
+    times more often. The skeleton sensor errs as `detector` says (DetectorConfig: OpenPose's
+    measured errors unless told otherwise); with `skeleton_recording`, it plays a recording
     of OpenPose's output instead (SkeletonRecordingConfig). With `active_gaze` the robot turns
     its head to find the person and keep their face, hands and the objects in view
     (`hsr_handover.perception.active_gaze`); off, the head holds the start posture (the
@@ -312,7 +357,7 @@ class PerceptionConfig:
 
     Ranges: cloud_size integers each in [8, 1024] px; workspace each in [-20, 20] m, each lower
     bound below its upper; signals_per_frame an integer in [1, 1e6]; attention_weight in
-    [1, 1e4]; pixel_sigma in [0, 100] px; face_drop_probability in [0, 1]."""
+    [1, 1e4]."""
 
     enabled: bool = False
     cloud_size: list[int] = field(default_factory=lambda: [200, 200])
@@ -321,8 +366,7 @@ class PerceptionConfig:
     attention_weight: float = DEFAULT_ATTENTION_WEIGHT
     attention: list[FocusConfig] = field(default_factory=list)
     gng: GngConfig = field(default_factory=GngConfig)
-    pixel_sigma: float = 2.0
-    face_drop_probability: float = 0.1
+    detector: DetectorConfig = field(default_factory=DetectorConfig)
     skeleton_recording: SkeletonRecordingConfig | None = None
     active_gaze: bool = True
 

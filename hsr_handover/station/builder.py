@@ -40,7 +40,6 @@ from hsr_handover.human.body import PERSON_JOINTS, BodyDimensions
 from hsr_handover.human.correcting import Corrector
 from hsr_handover.human.receiving import Receiver
 from hsr_handover.human.repeating import Repeater
-from hsr_handover.perception.skeleton import SkeletonNoise
 from hsr_handover.scenario import (
     Scenario,
     ScenarioError,
@@ -204,19 +203,16 @@ def _gripped_body(plant: MultibodyPlant, instance: ModelInstanceIndex) -> Grippe
     return GrippedBody(int(body.index()), body.default_mass(), inertia)
 
 
-def _add_pose_detector(builder, plant, person, camera, intrinsics, scenario: Scenario):
-    """The simulated pose detector on the head camera, capturing at its instants; its
-    `keypoints` output."""
-    perception = scenario.perception
-    noise = SkeletonNoise(
-        pixel_sigma=perception.pixel_sigma,
-        face_drop_probability=perception.face_drop_probability,
-    )
+def _add_pose_detector(builder, plant, person, objects, camera, intrinsics, scenario: Scenario):
+    """The simulated pose detector on the head camera, capturing at its instants, erring as
+    `perception.detector` says (a wrist now and then on one of the `objects`); its `keypoints`
+    output."""
+    objects = [int(plant.GetBodyIndices(instance)[0]) for instance in objects.values()]
     detector = builder.AddNamedSystem(
         "pose_detector",
         SkeletonSensor(
-            plant, person, intrinsics, 1.0 / scenario.camera.rate_hz, noise,
-            scenario.simulation.seed,
+            plant, person, intrinsics, 1.0 / scenario.camera.rate_hz,
+            scenario.perception.detector.model(), scenario.simulation.seed, objects,
         ),
     )  # fmt: skip
     builder.Connect(plant.get_body_poses_output_port(), detector.GetInputPort("body_poses"))
@@ -225,7 +221,9 @@ def _add_pose_detector(builder, plant, person, camera, intrinsics, scenario: Sce
     return detector.GetOutputPort("keypoints")
 
 
-def _add_sensors(builder, plant, scene_graph, robot, person, scenario: Scenario) -> HeadCamera:
+def _add_sensors(
+    builder, plant, scene_graph, robot, person, objects, scenario: Scenario
+) -> HeadCamera:
     """The head camera and the pose detector: simulated, capturing at the camera's instants, or
     a recording of OpenPose's output played back (`perception.skeleton_recording`)."""
     camera_config = scenario.camera
@@ -237,7 +235,9 @@ def _add_sensors(builder, plant, scene_graph, robot, person, scenario: Scenario)
     if scenario.perception.skeleton_recording is not None:
         keypoints = add_recorded_skeleton(builder, scenario)
     else:
-        keypoints = _add_pose_detector(builder, plant, person, camera, intrinsics, scenario)
+        keypoints = _add_pose_detector(
+            builder, plant, person, objects, camera, intrinsics, scenario
+        )
     info = builder.AddNamedSystem(
         "camera_intrinsics", ConstantValueSource(AbstractValue.Make(to_camera_info(intrinsics)))
     )
@@ -277,7 +277,7 @@ def build_station(scenario: Scenario, meshcat: Meshcat | None = None) -> Station
     scene_graph.collision_filter_manager().Apply(floor_filter(plant, floor, (robot, person)))
     _add_person(builder, plant, robot, person, objects, body, timeline, scenario)
     add_hsr_interface(builder, plant, robot)
-    _add_sensors(builder, plant, scene_graph, robot, person, scenario)
+    _add_sensors(builder, plant, scene_graph, robot, person, objects, scenario)
     _export_truth(builder, plant, scene_graph, robot, person)
     if meshcat is not None:
         params = MeshcatVisualizerParams(publish_period=1.0 / scenario.simulation.replay_fps)

@@ -22,13 +22,9 @@ from pydrake.systems.framework import Context, LeafSystem, State
 from pydrake.systems.sensors import ImageDepth32F
 
 from hsr_handover.perception.coco18 import COCO18_KEYPOINTS, NUM_KEYPOINTS
+from hsr_handover.perception.detector_model import DetectorModel, DetectorState, advance
 from hsr_handover.perception.pinhole import PinholeCamera
-from hsr_handover.perception.skeleton import (
-    NO_DEPTH_IMAGE,
-    Detection,
-    SkeletonNoise,
-    detect_keypoints,
-)
+from hsr_handover.perception.skeleton import NO_DEPTH_IMAGE, Detection, detect_keypoints
 
 NO_CAPTURE = "no capture yet"
 RECORDING_ENDED = "recording ended"
@@ -53,14 +49,16 @@ class SkeletonSensor(LeafSystem):
         person: ModelInstanceIndex,
         camera: PinholeCamera,
         period: float,
-        noise: SkeletonNoise | None = None,
+        model: DetectorModel | None = None,
         seed: int = 0,
+        objects: Sequence[int] = (),
     ):
         super().__init__()
         if not period > 0:
             raise ValueError(f"period: expected a positive capture period, got {period}")
         self._camera, self._seed = camera, seed
-        self._noise = SkeletonNoise() if noise is None else noise
+        self._model = DetectorModel() if model is None else model
+        self._objects = [int(index) for index in objects]
         frames = [plant.GetFrameByName(f"coco_{name}", person) for name in COCO18_KEYPOINTS]
         self._body_indices = [int(frame.body().index()) for frame in frames]
         self._p_BK = np.array([frame.GetFixedPoseInBodyFrame().translation() for frame in frames])
@@ -74,6 +72,7 @@ class SkeletonSensor(LeafSystem):
             "camera_pose", AbstractValue.Make(RigidTransform())
         )
         self._captured = self.DeclareDiscreteState(np.full(3 * NUM_KEYPOINTS + 1, np.nan))
+        self._errors = self.DeclareAbstractState(AbstractValue.Make(DetectorState.start()))
         # A detection depends on the held capture and the images, not on the body's live pose:
         # without these tickets Drake recomputes it (and everything lifted from it) every step.
         self.DeclareAbstractOutputPort(
@@ -82,6 +81,7 @@ class SkeletonSensor(LeafSystem):
             self._detect,
             prerequisites_of_calc={
                 self.discrete_state_ticket(self._captured),
+                self.abstract_state_ticket(self._errors),
                 self._depth.ticket(),
                 self._pose.ticket(),
             },
@@ -102,8 +102,16 @@ class SkeletonSensor(LeafSystem):
         return held[:-1].reshape(NUM_KEYPOINTS, 3), float(held[-1])
 
     def _capture(self, context: Context, state: State) -> None:
-        held = np.append(self.keypoints_in_world(context).ravel(), context.get_time())
-        state.get_mutable_discrete_state(self._captured).set_value(held)
+        keypoints_W, time = self.keypoints_in_world(context), context.get_time()
+        state.get_mutable_discrete_state(self._captured).set_value(
+            np.append(keypoints_W.ravel(), time)
+        )
+        poses: list[RigidTransform] = self._body_poses.Eval(context)
+        objects_W = np.array([poses[b].translation() for b in self._objects]).reshape(-1, 3)
+        rng = np.random.default_rng([self._seed, round(time * 1e6), 1])
+        errors = context.get_abstract_state(self._errors).get_value()
+        errors = advance(errors, keypoints_W, objects_W, time, self._model, rng)
+        state.get_mutable_abstract_state(self._errors).set_value(errors)
 
     def _detect(self, context: Context, output: AbstractValue) -> None:
         keypoints_W, time = self.captured(context)
@@ -117,7 +125,10 @@ class SkeletonSensor(LeafSystem):
         rng = np.random.default_rng([self._seed, round(time * 1e6)])
         X_WC = self._pose.Eval(context).GetAsMatrix4()
         depth = image.data[:, :, 0]
-        output.set_value(detect_keypoints(keypoints_W, self._camera, X_WC, depth, self._noise, rng))
+        errors = context.get_abstract_state(self._errors).get_value()
+        output.set_value(
+            detect_keypoints(keypoints_W, self._camera, X_WC, depth, self._model, rng, errors)
+        )
 
 
 class RecordedSkeletonSource(LeafSystem):
