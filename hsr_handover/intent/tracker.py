@@ -45,6 +45,7 @@ from hsr_handover.intent.rays import (
 from hsr_handover.literature import HEAD_FRACTION_SD, STIEFELHAGEN_HEAD_FRACTION
 from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.perception.facing import SteadyFacing
+from hsr_handover.perception.keypoint_filter import KeypointFilter
 from hsr_handover.perception.torso_depth import mirrored_shoulder
 
 POINTING_RAYS = ("shoulder_wrist", "elbow_wrist", "eye_wrist")
@@ -147,6 +148,9 @@ class IntentParams:
     correction_below_deg: how far (deg) the eyes may look below the object a correction asks
     for: a hand held out to receive is a straight arm toward the table, and the eyes on it
     look 14-16 degrees below the objects beyond (15 below where a correction read 4-6 above).
+    track_keypoints: follow each keypoint over time before reading the rays
+    (`perception.keypoint_filter`: smoothed, outliers and swapped arms rejected, short misses
+    bridged).
     Ranges: each in [low, high] of `_RANGES`; pointing_ray one of POINTING_RAYS.
     """
 
@@ -166,6 +170,7 @@ class IntentParams:
     bent_gap_s: float = 0.2
     correction_gaze_tolerance_deg: float = 24.0
     correction_below_deg: float = 10.0
+    track_keypoints: bool = True
 
     def __post_init__(self) -> None:
         for name, (low, high, unit, closed) in _RANGES.items():
@@ -578,6 +583,7 @@ class IntentTracker:
         self._correction_params = dataclasses.replace(
             self.params, gaze_tolerance_deg=self.params.correction_gaze_tolerance_deg
         )
+        self._keypoints = KeypointFilter() if self.params.track_keypoints else None
 
     @classmethod
     def correcting(cls, state: IntentState, params: IntentParams | None = None) -> IntentTracker:
@@ -595,6 +601,7 @@ class IntentTracker:
         place: only the smoother's histories need copying."""
         clone = copy.copy(self)
         clone._smoother = copy.deepcopy(self._smoother, memo)
+        clone._keypoints = copy.deepcopy(self._keypoints, memo)
         return clone
 
     def _steady_forward(self, observation: Observation, chest: np.ndarray | None) -> Observation:
@@ -627,6 +634,8 @@ class IntentTracker:
         where last seen: the objects stay on the table while the robot looks at the person
         (a standing person's face and the table do not fit in the camera's view) or, fetching
         one, at where it carries it."""
+        if self._keypoints is not None:
+            points, confidence = self._keypoints.update(time, points, confidence)
         self._objects = self._objects | {label: center for label, center in candidates}
         held = None  # the target where this frame shows it: once lifted, in the robot's hand
         if self.state_.target is not None:

@@ -383,8 +383,10 @@ class IntentConfig:
     to it, if more), both for `t_max`, over rays averaged across
     `smoothing_s` (the face's pitch across `pitch_smoothing_s`), while the pointing arm turns
     slower than `steady_deg_s`; an arm that reads bent for no longer than `bent_gap_s` goes on
-    pointing; `gaze_weight` weighs the eyes against the arm between objects both allow. The
-    meaning and the measured defaults: `hsr_handover.intent.IntentParams`.
+    pointing; `gaze_weight` weighs the eyes against the arm between objects both allow; with
+    `track_keypoints`, each keypoint is followed over time first (smoothed, outliers and
+    swapped arms rejected, short misses bridged: `hsr_handover.perception.keypoint_filter`).
+    The meaning and the measured defaults: `hsr_handover.intent.IntentParams`.
 
     Ranges: straight_arm_deg in (90, 180] deg; d_min in (0, 2] m; gaze_tolerance_deg and
     gaze_pitch_tolerance_deg in (0, 90] deg; gaze_pitch_tolerance_share in [0, 1];
@@ -406,6 +408,7 @@ class IntentConfig:
     steady_deg_s: float = IntentParams.steady_deg_s
     bent_gap_s: float = IntentParams.bent_gap_s
     pitch_smoothing_s: float = IntentParams.pitch_smoothing_s
+    track_keypoints: bool = IntentParams.track_keypoints
 
     def params(self) -> IntentParams:
         """The recogniser's parameters (raises ValueError naming a field out of range)."""

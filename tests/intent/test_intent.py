@@ -406,8 +406,8 @@ def test_a_face_dropped_for_a_frame_is_the_windows_face_and_one_long_gone_is_non
 
 def test_the_torso_direction_is_the_mean_of_the_resting_frames():
     """Lifted shoulders jitter; the tracker's forward direction is their running mean while no
-    arm points, not the last frame's."""
-    tracker = IntentTracker(IntentParams())
+    arm points, not the last frame's (each frame as lifted: no keypoint filter)."""
+    tracker = IntentTracker(IntentParams(track_keypoints=False))
     points, confidence = keypoints()
     r = keypoint_index("r_shoulder")
     for time, skew in ((0.0, 0.04), (0.1, -0.04)):  # shoulders 4 cm forward, then back
