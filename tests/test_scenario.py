@@ -230,6 +230,31 @@ BROKEN = {
         "perception.gng.max_nodes",
         "expected an integer in [3, 5000], got 2",
     ),
+    "unknown detector preset": (
+        _set("perception.detector.preset", "openpose"),
+        "perception.detector.preset",
+        "expected one of ['realistic', 'ideal'], got 'openpose'",
+    ),
+    "detector bias share above 1": (
+        _set("perception.detector.bias_share", 1.5),
+        "perception.detector.bias_share",
+        "expected in [0, 1], got 1.5",
+    ),
+    "detector miss rates not four": (
+        _set("perception.detector.miss_rate", [0.1, 0.1]),
+        "perception.detector.miss_rate",
+        "expected 4 rates",
+    ),
+    "detector scale of 20": (
+        _set("perception.detector.scale", 20.0),
+        "perception.detector.scale",
+        "in [0, 10]",
+    ),
+    "the old pixel_sigma key": (
+        _set("perception.pixel_sigma", 1.0),
+        "perception.pixel_sigma",
+        "unknown key",
+    ),
     "base pose beyond the room": (
         _set("robot.base_pose", [150.0, 0.0, 0.0]),
         "robot.base_pose[0]",

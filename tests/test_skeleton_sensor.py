@@ -405,3 +405,45 @@ def test_recorded_detections_replay_through_the_same_lifting(pointing_scene, tmp
         _lift(station, replayed, inputs).points, _lift(station, live, inputs).points
     )
     assert port.Eval(_fixed_context(source, {}, 0.1)).status == "recording ended"
+
+
+def _captures(sensor: SkeletonSensor, inputs: dict, count: int) -> list:
+    """The sensor's detections of `count` captures at 30 Hz from t = 0 (its own context)."""
+    context = _fixed_context(sensor, inputs, 0.0)
+    simulator = Simulator(sensor, context)
+    simulator.Initialize()
+    detections = []
+    for k in range(count):
+        simulator.AdvanceTo(k / 30.0 + 1e-4)
+        detections.append(sensor.GetOutputPort("keypoints").Eval(context))
+    return detections
+
+
+def test_sensor_carries_the_detectors_bias_from_capture_to_capture(pointing_scene):
+    """A bias persists: consecutive captures differ far less than with the same error drawn
+    anew each frame."""
+    station, inputs, _ = pointing_scene
+    exact = dict(miss_rate=(0.0,) * 4, swap_rate=0.0, spurious_rate=0.0, confidence_spread=0.0)
+
+    def frame_to_frame(bias_share: float) -> float:
+        model = DetectorModel(bias_share=bias_share, **exact)
+        pixels = np.array([d.pixels for d in _captures(_sensor(station, model), inputs, 12)])
+        return float(np.nanmean(np.abs(np.diff(pixels, axis=0))))
+
+    assert frame_to_frame(1.0) < 0.2 * frame_to_frame(0.0)
+
+
+def test_sensor_reports_a_wrist_on_an_object_near_it(pointing_scene):
+    station, inputs, truth = pointing_scene
+    cup = station.plant.GetBodyIndices(next(iter(station.objects.values())))[0]
+    model = DetectorModel(
+        joint_error_m=0.0, miss_rate=(0.0,) * 4, swap_rate=0.0, spurious_rate=0.9,
+        spurious_run_s=1.0, spurious_reach_m=2.0,
+    )  # fmt: skip
+    camera = station.scenario.camera.pinhole()
+    sensor = SkeletonSensor(station.plant, station.person, camera, 1.0 / 30.0, model, 0, [cup])
+    on_cup = sensor.GetInputPort("body_poses").Eval(_fixed_context(sensor, inputs))[int(cup)]
+    cup_pixel, _ = camera.project(on_cup.translation()[None], inputs["camera_pose"].GetAsMatrix4())
+    wrists = [d.pixels[keypoint_index("r_wrist")] for d in _captures(sensor, inputs, 10)]
+    on_object = [np.linalg.norm(w - cup_pixel[0]) < 1.0 for w in wrists if np.isfinite(w).all()]
+    assert sum(on_object) >= 5
