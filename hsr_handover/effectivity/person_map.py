@@ -128,13 +128,27 @@ class PersonEffectivity:
         return within & self.cells.reachable(local, self.resolution)
 
 
+def perceived_height(points: np.ndarray, confidence: np.ndarray) -> float | None:
+    """The person's height (m) from a lifted skeleton's shoulder width; None without both
+    shoulders."""
+    right, left = seen_shoulders(points, confidence)
+    if right is None or left is None:
+        return None
+    return float(np.linalg.norm(right - left)) / SHOULDER_WIDTH_PER_HEIGHT
+
+
 def perceived_arm(
-    points: np.ndarray, confidence: np.ndarray, side: str, forward: np.ndarray | None = None
+    points: np.ndarray,
+    confidence: np.ndarray,
+    side: str,
+    forward: np.ndarray | None = None,
+    height: float | None = None,
 ) -> HumanArm | None:
     """The arm on `side` ("r" or "l") from a lifted COCO-18 skeleton (18 x 3, 18), or None
     without both shoulders (one hidden is mirrored through the neck, `seen_shoulders`).
     `forward`: the way the torso faces (world; the chest's facing voted over frames,
-    `perception.facing`), when known."""
+    `perception.facing`), when known. `height` (m): the person's, when known from more than
+    this frame; else from this frame's shoulder width."""
     seen = (np.asarray(confidence) > 0) & np.isfinite(points).all(axis=1)
 
     def at(name: str) -> np.ndarray | None:
@@ -144,7 +158,8 @@ def perceived_arm(
     right, left = seen_shoulders(points, confidence)
     if right is None or left is None:
         return None
-    height = np.linalg.norm(right - left) / SHOULDER_WIDTH_PER_HEIGHT
+    if height is None:
+        height = np.linalg.norm(right - left) / SHOULDER_WIDTH_PER_HEIGHT
     shoulder = right if side == "r" else left
     elbow, wrist = at(f"{side}_elbow"), at(f"{side}_wrist")
     upper = _plausible(shoulder, elbow, UPPER_ARM_PER_HEIGHT * height)
@@ -196,9 +211,15 @@ def receiving_arms(
 ) -> tuple[HumanArm, ...]:
     """The person's arms, in RECEIVING_SIDES order, from the first of `skeletons` (newest
     first) that shows both shoulders, their body frame facing `forward` when known (see
-    `perceived_arm`); empty if none shows both."""
+    `perceived_arm`), their size from the median height over all of them that show both
+    shoulders (one frame's shoulders err by 2 cm and more: a pose detector's error persists
+    over a held pose); empty if none shows both."""
+    skeletons = list(skeletons)
+    heights = [perceived_height(s.points, s.confidence) for s in skeletons]
+    known = [height for height in heights if height is not None]
+    height = float(np.median(known)) if known else None
     for skeleton in skeletons:
-        arms = [perceived_arm(skeleton.points, skeleton.confidence, side, forward)
+        arms = [perceived_arm(skeleton.points, skeleton.confidence, side, forward, height)
                 for side in RECEIVING_SIDES]  # fmt: skip
         if all(arm is not None for arm in arms):
             return tuple(arms)

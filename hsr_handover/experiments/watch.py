@@ -18,13 +18,15 @@ from hsr_handover.scenario import Scenario
 from hsr_handover.simulation import Simulation, prepare_simulation, start_replay
 
 WATCH_S = 3.5  # s of watching before planning: the look round (2.7 s), then a steady view
+RECENT_S, RECENT_STEP_S = 0.6, 0.1  # the skeletons kept of the watch's end, and how often
 
 
 @dataclasses.dataclass
 class Watched:
     """The simulation after watching, its `simulator` (keeps the contexts alive) and `root`
     context, the skeletons perceived at each stop of the look round (`glimpses`, oldest
-    first), and the Meshcat recording the replay (None without one); `percept(name)` evaluates
+    first) and every RECENT_STEP_S over the watch's last RECENT_S (`recent`, oldest first),
+    and the Meshcat recording the replay (None without one); `percept(name)` evaluates
     one of the robot's perception outputs now."""
 
     simulation: Simulation
@@ -32,6 +34,7 @@ class Watched:
     root: Context
     glimpses: tuple[Skeleton, ...] = ()
     meshcat: Meshcat | None = None
+    recent: tuple[Skeleton, ...] = ()
 
     def percept(self, name: str):
         robot = self.simulation.robot.diagram
@@ -41,10 +44,11 @@ class Watched:
         return self.simulation.measured_positions(self.root)
 
     def person_arm(self) -> HumanArm | None:
-        """The receiving arm as last seen: now, or else at the latest look-round stop that
-        showed both shoulders (a person beside a moved table can be out of view ahead); its
-        frame faces the chest's facing voted over those views."""
-        skeletons = (self.percept("skeleton"), *reversed(self.glimpses))
+        """The receiving arm as last seen: now, or else in the latest view that showed both
+        shoulders (of the watch's end, then of the look round: a person beside a moved table
+        can be out of view ahead); its frame faces the chest's facing voted over those views,
+        its size the median over them (`receiving_arms`)."""
+        skeletons = (self.percept("skeleton"), *reversed(self.recent), *reversed(self.glimpses))
         forward = steady_facing(skeleton.torso_forward for skeleton in skeletons)
         arms = receiving_arms(skeletons, forward)
         return arms[0] if arms else None
@@ -71,8 +75,21 @@ def watch(
     if meshcat is not None:
         start_replay(meshcat, scenario)
     glimpses = _look_around(simulation, simulator) if look_around else ()
-    simulator.AdvanceTo(max(seconds, simulator.get_context().get_time()))
-    return Watched(simulation, simulator, simulator.get_context(), glimpses, meshcat)
+    end = max(seconds, simulator.get_context().get_time())
+    recent = []
+    for k in range(round(RECENT_S / RECENT_STEP_S)):
+        time = end - RECENT_S + k * RECENT_STEP_S
+        if time > simulator.get_context().get_time():
+            simulator.AdvanceTo(time)
+            recent.append(_skeleton(simulation, simulator))
+    simulator.AdvanceTo(end)
+    return Watched(simulation, simulator, simulator.get_context(), glimpses, meshcat,
+                   tuple(recent))  # fmt: skip
+
+
+def _skeleton(simulation: Simulation, simulator: Simulator) -> Skeleton:
+    robot_context = simulation.robot_context(simulator.get_context())
+    return simulation.robot.diagram.GetOutputPort("skeleton").Eval(robot_context)
 
 
 def _look_around(simulation: Simulation, simulator: Simulator) -> tuple[Skeleton, ...]:
@@ -85,12 +102,11 @@ def _look_around(simulation: Simulation, simulator: Simulator) -> tuple[Skeleton
     pan, tilt = (COMMANDED_JOINTS.index(joint) for joint in HEAD_JOINTS)
     start = tuple(command.get_value()[[pan, tilt]])
     stops = [(angle, LOOK_ROUND_TILT) for angle in LOOK_AROUND_PANS]
-    robot, glimpses = simulation.robot.diagram, []
+    glimpses = []
     for head in (*stops, start):
         value = command.get_value().copy()
         value[[pan, tilt]] = head
         command.set_value(value)
         simulator.AdvanceTo(simulator.get_context().get_time() + LOOK_DWELL_S)
-        robot_context = simulation.robot_context(simulator.get_context())
-        glimpses.append(robot.GetOutputPort("skeleton").Eval(robot_context))
+        glimpses.append(_skeleton(simulation, simulator))
     return tuple(glimpses)
