@@ -59,3 +59,20 @@ def test_an_unseen_forearm_takes_the_bodys_proportions():
     unseen = receiving_arms([skeleton])[0]
     assert unseen.upper == pytest.approx(receiving_arms([_skeleton()])[0].upper)
     assert unseen.forearm == pytest.approx(FOREARM_PER_HEIGHT * height)
+
+
+def test_the_arms_size_is_the_median_over_the_views_not_the_newest_alone():
+    """A pose detector's error persists over a held pose: one view's shoulders 6 cm narrower
+    does not shrink the person when two others agree."""
+    narrow = _skeleton()
+    points = narrow.points.copy()
+    for name in ("r_shoulder", "l_shoulder"):  # each 3 cm toward the midline
+        i = keypoint_index(name)
+        points[i, 1] -= 0.03 * np.sign(points[i, 1])
+    narrow = Skeleton(narrow.pixels, points, narrow.confidence)
+    alone = receiving_arms([narrow])[0]
+    among = receiving_arms([narrow, _skeleton(0.3), _skeleton(0.2)])[0]
+    whole = receiving_arms([_skeleton()])[0]
+    assert alone.hand < 0.9 * whole.hand  # the hand is sized by the height alone
+    assert among.hand == pytest.approx(whole.hand)
+    np.testing.assert_allclose(among.shoulder, alone.shoulder)  # placed where last seen
