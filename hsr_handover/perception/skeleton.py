@@ -279,7 +279,7 @@ def detect_keypoints(
     jitter_sd = model.joint_error_m * np.sqrt(1.0 - model.bias_share) * KEYPOINT_SHARE[:, None]
     jitter_m = jitter_sd * rng.standard_normal((NUM_KEYPOINTS, 2))
     jitter_px = model.pixel_sigma * rng.standard_normal((NUM_KEYPOINTS, 2))
-    doubt = model.confidence_spread * rng.random(NUM_KEYPOINTS)
+    share = rng.random(NUM_KEYPOINTS)  # where each confidence falls in its range
     if state is None:
         state = advance(DetectorState.start(), keypoints_W, np.zeros((0, 3)), 0.0, model, rng)
     true_pixels, keypoint_depth, in_view = camera.project_in_view(keypoints_W, X_WC)
@@ -291,7 +291,7 @@ def detect_keypoints(
     detected = in_view & camera.contains(pixels)
     detected &= ~hidden_keypoints(keypoints_W, camera, X_WC, depth, model)
     detected &= ~state.missing
-    confidence = border_confidence(pixels, camera) * (1.0 - doubt)
+    confidence = border_confidence(pixels, camera) * (1.0 - model.confidence_spread * share)
     for k, wrist in enumerate(WRISTS):
         if np.isfinite(state.spurious[k]).all():  # on the object instead
             on_object, _, seen = camera.project_in_view(state.spurious[k][None], X_WC)
@@ -299,7 +299,7 @@ def detect_keypoints(
                 pixels[wrist] = on_object[0] + jitter_px[wrist]
                 detected[wrist] = camera.contains(pixels[wrist : wrist + 1])[0]
                 low, high = SPURIOUS_CONFIDENCE
-                confidence[wrist] *= low + (high - low) * doubt[wrist]
+                confidence[wrist] *= low + (high - low) * share[wrist]
     if state.swapped:
         right, left = ARM_KEYPOINTS["r"], ARM_KEYPOINTS["l"]
         for array in (pixels, detected, confidence):
