@@ -134,6 +134,11 @@ def perceived_height(points: np.ndarray, confidence: np.ndarray) -> float | None
     right, left = seen_shoulders(points, confidence)
     if right is None or left is None:
         return None
+    return _height(right, left)
+
+
+def _height(right: np.ndarray, left: np.ndarray) -> float:
+    """The height (m) of a person whose shoulders are at `right` and `left`."""
     return float(np.linalg.norm(right - left)) / SHOULDER_WIDTH_PER_HEIGHT
 
 
@@ -159,7 +164,7 @@ def perceived_arm(
     if right is None or left is None:
         return None
     if height is None:
-        height = np.linalg.norm(right - left) / SHOULDER_WIDTH_PER_HEIGHT
+        height = _height(right, left)
     shoulder = right if side == "r" else left
     elbow, wrist = at(f"{side}_elbow"), at(f"{side}_wrist")
     upper = _plausible(shoulder, elbow, UPPER_ARM_PER_HEIGHT * height)
