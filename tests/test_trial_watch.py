@@ -104,3 +104,16 @@ def test_an_object_lifted_by_mistake_is_the_robots_load_until_it_is_set_down_aga
     fallen = START | {"box": START["box"] - 0.03}  # down on its side
     put_back.observe(3.0, fallen, [("box", TABLE)], "")
     assert put_back.score.set_down == {"box": pytest.approx(-0.03)}
+
+
+def test_the_target_put_back_on_the_table_is_placed_not_carried_into_it():
+    """Told it has the wrong object, the robot sets the target down where it stood: its
+    touching the table there, still in the fingers, is the placing; touching the table while
+    still up (an edge caught on the way down) is a contact."""
+    watch = _carried()
+    set_down = START | {"cup": START["cup"] + DROPPED / 4}
+    watch.observe(2.0, set_down, HELD + [("cup", TABLE)], "")
+    assert math.isnan(watch.score.table_contact) and math.isnan(watch.score.dropped)
+    caught = _carried()
+    caught.observe(2.0, START | {"cup": START["cup"] + 0.03}, HELD + [("cup", TABLE)], "")
+    assert caught.score.table_contact == 2.0

@@ -80,10 +80,12 @@ class TrialWatch:
 
     def _carried(self, name: str) -> bool:
         """Whether `name` counts as part of the robot: the target `carrying`, or another
-        object lifted and not yet set down again."""
-        if name == self._target:
-            return self.carrying()
+        object lifted, each while it is up. An object back at the height it stood at is being
+        set down on the table (the target too, put back when the robot was told it had the
+        wrong one), and its touching the table is the placing, not a collision."""
         up = self._heights_now.get(name, -math.inf) >= self._start.get(name, math.inf) + DROPPED
+        if name == self._target:
+            return self.carrying() and up
         return name in self.score.lifted and up
 
     def observe(

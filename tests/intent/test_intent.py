@@ -613,3 +613,25 @@ def test_a_correction_is_not_read_from_eyes_on_the_object_the_robot_holds():
 
     assert corrected(held_seen=False) == "blue"
     assert corrected(held_seen=True) is None
+
+
+def test_the_object_held_is_where_last_seen_once_lifted_out_of_view():
+    """The hand lifts the green cup out of the camera's view: eyes still on it where it was
+    last seen (6 cm up), with an arm held out past the blue cup to receive it, ask for nothing;
+    seen only where it stood, it is not taken to be held there."""
+    params = IntentParams(t_max=0.5, face_tilt_deg=TRUE_FACE_TILT)
+    blue = CUPS[2][1]
+
+    def corrected(lift: float) -> str | None:
+        tracker, time = _recognised_green(params)
+        eyes_on = CUPS[1][1] + 0.3 * (blue - CUPS[1][1])
+        resting, confidence = keypoints(look_at=eyes_on)
+        lifted = [("green", CUPS[1][1] + [0.0, 0.0, lift]), CUPS[2]]
+        _, time = _run(tracker, time, 0.2, resting, confidence, candidates=lifted)
+        _, time = _run(tracker, time, params.smoothing_s + 0.5, resting, confidence, [CUPS[2]])
+        points, confidence = keypoints(look_at=eyes_on, point_with="right", point_at=blue)
+        states, _ = _run(tracker, time, 2.0, points, confidence, candidates=[CUPS[2]])
+        return states[-1].correction
+
+    assert corrected(lift=0.0) == "blue"
+    assert corrected(lift=0.06) is None
