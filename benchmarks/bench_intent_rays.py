@@ -108,8 +108,7 @@ def _arm_errors(frames: list, probe: Probe) -> dict:
                 error = points[i] - truth[i]
                 depth.append(error @ sight)
                 lateral.append(np.linalg.norm(error - (error @ sight) * sight))
-        result[f"{joint}_depth"] = float(np.median(depth)) if depth else math.nan
-        result[f"{joint}_lateral"] = float(np.median(lateral)) if lateral else math.nan
+        result[f"{joint}_depth"], result[f"{joint}_lateral"] = _median(depth), _median(lateral)
     angles, bearings, elevations = [], [], []
     s, w = index["shoulder"], index["wrist"]
     for truth, points, confidence, *_ in frames:
@@ -161,7 +160,8 @@ def _bearing_errors(frames: list, probe: Probe) -> dict:
 
 
 def _bearing(ray: Ray | None, probe: Probe) -> float:
-    """The signed horizontal angle (deg) from the ray to the target; NaN without a ray."""
+    """How far (deg, signed, about world z) the ray heads from the direction to the target;
+    NaN without a ray."""
     if ray is None:
         return math.nan
     target = np.array([*probe.target_xy, ray.origin[2]])
@@ -175,7 +175,9 @@ def _turn_deg(reference: np.ndarray, direction: np.ndarray) -> float:
 
 
 def _median(values: list) -> float:
-    return float(np.median(values)) if values else math.nan
+    """The median of the values that are numbers; NaN without any."""
+    finite = [value for value in values if math.isfinite(value)]
+    return float(np.median(finite)) if finite else math.nan
 
 
 def _print_arms(rows: dict[str, list[dict]]) -> None:

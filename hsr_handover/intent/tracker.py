@@ -700,11 +700,12 @@ class IntentTracker:
         within its pitch tolerance too or nearer it than `asked` across. A person watches what
         the robot brings. (The moved layout's trial 38 of seed 3: eyes on the green cup in the
         hand, the blue cup on the table behind it, and a resting arm read straight toward
-        both, read as a correction. The handover reference's trial 13 with the realistic
-        detector: the arm held out to receive passing 19 cm from the red cup, the eyes 1.3
-        degrees across from the box in the hand and 17 from the cup, read 9-13 degrees below
-        the box.) The price: a correction whose eyes pass that near the object held is not
-        read (the moved layout's three real ones, seeds 2 and 3, still are)."""
+        both, read as a correction. Across decides where the pitch cannot: an arm held out to
+        receive, passing 19 cm from the cup beside the box in the hand, with the eyes 1 degree
+        across from the box and 17 from the cup, read 9-13 degrees below the box through the
+        realistic detector's face.) The price: a correction whose eyes pass that near the
+        object held is not read (the moved layout's three real ones, seeds 2 and 3, still
+        are)."""
         if held is None or gaze is None:
             return False
         across, across_asked = bearing_errors_deg(gaze, np.array([held, asked]))

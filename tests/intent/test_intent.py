@@ -639,9 +639,8 @@ def test_the_object_held_is_where_last_seen_once_lifted_out_of_view():
 
 def test_eyes_toward_the_object_held_rather_than_the_one_pointed_at_are_watching_it():
     """A hand held out to receive, passing near the blue cup, with the eyes toward the green
-    cup in the robot's hand but read well below it (the handover reference's trial 13 with the
-    realistic detector): nearer the held cup across than the blue, the eyes are on what the
-    robot brings, whatever their pitch."""
+    cup in the robot's hand but read well below it: nearer the held cup across than the blue,
+    the eyes are on what the robot brings, whatever their pitch."""
     params = IntentParams(t_max=0.5, face_tilt_deg=TRUE_FACE_TILT)
     blue, green = CUPS[2][1], CUPS[1][1]
     held = [("green", green + [0.0, 0.0, 0.2]), CUPS[2]]
