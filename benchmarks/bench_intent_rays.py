@@ -15,7 +15,8 @@ baseline in the same run, the ideal one:
   per-trial medians, degrees: a bias counts) of each, of the detector's part (lifted minus
   true), and of the gaze's two parts: the face's heading (eq. 17) and the torso's facing voted
   over the frames (`SteadyFacing`). The gaze's error is head_gain x the face's minus
-  (head_gain - 1) x the torso's.
+  (head_gain - 1) x the torso's. And how far the gaze passes above the target's centre
+  (mean and sd over trials): what the recogniser's pitch tests read.
 
 Scoring only: the truth is read from the world's pose detector.
 
@@ -38,16 +39,18 @@ from hsr_handover.experiments.intent_trials import make_trials
 from hsr_handover.experiments.trials import TrialProgress, run_trials
 from hsr_handover.intent import IntentParams
 from hsr_handover.intent.rays import Ray, angle_deg, elbow_angle_deg, heading_elevation
-from hsr_handover.intent.tracker import ARMS, face_ray, gaze_ray, torso_forward
+from hsr_handover.intent.tracker import ARMS, face_ray, gaze_ray, pitch_errors_deg, torso_forward
 from hsr_handover.perception.coco18 import NUM_KEYPOINTS, keypoint_index
 from hsr_handover.perception.facing import SteadyFacing
 from hsr_handover.scenario import load_scenario
+from hsr_handover.scenario.checks import object_center
 from hsr_handover.simulation import run_scenario
 from hsr_handover.systems.frame_timing import PROCESSING_DELAY_S
 
 SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "intent_reference.yaml"
 JOINTS = ("shoulder", "elbow", "wrist")
-BEARINGS = ("pointing_true", "pointing_lifted", "gaze_true", "gaze_lifted", "face", "torso")
+BEARINGS = ("pointing_true", "pointing_lifted", "gaze_true", "gaze_lifted", "face", "torso",
+            "gaze_pitch_true", "gaze_pitch_lifted")  # fmt: skip
 DETECTORS = ("realistic", "ideal")
 HELD_STRAIGHT_DEG = 165.0  # the true elbow's angle while the gesture is held
 
@@ -58,7 +61,7 @@ class Probe:
     arm: str
     onset: float
     scenario: object
-    target_xy: tuple[float, float]
+    target: tuple[float, float, float]  # the centre of the object asked for (m, world)
 
 
 def _frames(probe: Probe) -> list:
@@ -143,7 +146,9 @@ def _bearing_errors(frames: list, probe: Probe) -> dict:
         if true_face is None or true_forward is None:
             continue
         values["pointing_true"].append(_bearing(Ray.through(truth[shoulder], truth[wrist]), probe))
-        values["gaze_true"].append(_bearing(gaze_ray(true_face, true_forward, params), probe))
+        true_gaze = gaze_ray(true_face, true_forward, params)
+        values["gaze_true"].append(_bearing(true_gaze, probe))
+        values["gaze_pitch_true"].append(_above(true_gaze, probe))
         if confidence[shoulder] > 0 and confidence[wrist] > 0:
             pointing = Ray.through(points[shoulder], points[wrist])
             values["pointing_lifted"].append(_bearing(pointing, probe))
@@ -152,7 +157,9 @@ def _bearing_errors(frames: list, probe: Probe) -> dict:
         forward = shoulders.direction() if forward is None else forward
         if face is None:
             continue
-        values["gaze_lifted"].append(_bearing(gaze_ray(face, forward, params), probe))
+        gaze = gaze_ray(face, forward, params)
+        values["gaze_lifted"].append(_bearing(gaze, probe))
+        values["gaze_pitch_lifted"].append(_above(gaze, probe))
         values["face"].append(_turn_deg(true_face.direction, face.direction))
         if forward is not None:
             values["torso"].append(_turn_deg(true_forward, forward))
@@ -164,8 +171,13 @@ def _bearing(ray: Ray | None, probe: Probe) -> float:
     NaN without a ray."""
     if ray is None:
         return math.nan
-    target = np.array([*probe.target_xy, ray.origin[2]])
+    target = np.array([*probe.target[:2], ray.origin[2]])
     return _turn_deg(target - ray.origin, ray.direction)
+
+
+def _above(ray: Ray, probe: Probe) -> float:
+    """How far (deg) the ray passes above the target's centre, seen from its origin."""
+    return float(pitch_errors_deg(ray, np.array([probe.target]))[0])
 
 
 def _turn_deg(reference: np.ndarray, direction: np.ndarray) -> float:
@@ -201,10 +213,10 @@ def _print_arms(rows: dict[str, list[dict]]) -> None:
 def _print_bearings(rows: dict[str, list[dict]]) -> None:
     """The size over trials (root mean square, deg: a bias counts) of the bearing errors to
     the target: the person's, the lifted skeleton's and their difference, for the pointing ray
-    and the gaze."""
+    and the gaze; and how far the gaze passes above the target (mean ± sd over trials)."""
     print("\nbearing to the target, rms over trials (deg)"
           "    pointing: person / lifted / detector     gaze: person / lifted / detector"
-          "  (face / torso)")  # fmt: skip
+          "  (face / torso)  gaze above: person / lifted / detector, mean ± sd")  # fmt: skip
     for detector, found in rows.items():
         column = {name: np.array([row[name] for row in found]) for name in BEARINGS}
         cells = []
@@ -213,12 +225,22 @@ def _print_bearings(rows: dict[str, list[dict]]) -> None:
             cells.append(" / ".join(f"{_rms(values):4.1f}"
                                     for values in (person, lifted, lifted - person)))  # fmt: skip
         parts = f"({_rms(column['face']):4.1f} / {_rms(column['torso']):4.1f})"
+        person, lifted = column["gaze_pitch_true"], column["gaze_pitch_lifted"]
+        parts += "  pitch " + " / ".join(
+            _mean_sd(values) for values in (person, lifted, lifted - person)
+        )
         print(f"{detector:10s} {len(found):6d} trials {'':28s}{cells[0]:18s}"
               f"  {'':17s}{cells[1]:18s}  {parts}")  # fmt: skip
 
 
+def _mean_sd(values: np.ndarray) -> str:
+    finite = values[np.isfinite(values)]
+    return f"{finite.mean():+4.1f} ± {finite.std():3.1f}" if len(finite) else "nan"
+
+
 def _rms(values: np.ndarray) -> float:
-    return float(np.sqrt(np.nanmean(np.square(values))))
+    finite = values[np.isfinite(values)]
+    return float(np.sqrt(np.mean(np.square(finite)))) if len(finite) else math.nan
 
 
 def main() -> None:
@@ -237,9 +259,10 @@ def main() -> None:
         scenario = copy.deepcopy(base)
         scenario.perception.detector.preset = detector
         for trial in make_trials(scenario, args.requests, 0, args.seed, layouts=args.layouts):
-            target = next(obj for obj in trial.scenario.objects if obj.name == trial.target)
+            asked = next(obj for obj in trial.scenario.objects if obj.name == trial.target)
+            target = tuple(object_center(trial.scenario, asked))
             probes.append(Probe(detector, trial.arm, trial.pointing_onset, trial.scenario,
-                                tuple(target.position[:2])))  # fmt: skip
+                                target))  # fmt: skip
     outcomes = run_trials(measure, probes, args.workers, progress=TrialProgress())
     rows = {
         detector: [o.result for p, o in zip(probes, outcomes, strict=True)
