@@ -40,6 +40,7 @@ from hsr_handover.experiments.trials import TrialProgress, run_trials
 from hsr_handover.intent import IntentParams
 from hsr_handover.intent.rays import Ray, angle_deg, elbow_angle_deg, heading_elevation
 from hsr_handover.intent.tracker import ARMS, face_ray, gaze_ray, pitch_errors_deg, torso_forward
+from hsr_handover.perception.active_gaze import wrap
 from hsr_handover.perception.coco18 import NUM_KEYPOINTS, keypoint_index
 from hsr_handover.perception.facing import SteadyFacing
 from hsr_handover.scenario import load_scenario
@@ -183,7 +184,7 @@ def _above(ray: Ray, probe: Probe) -> float:
 def _turn_deg(reference: np.ndarray, direction: np.ndarray) -> float:
     """The signed turn (deg, counter-clockwise about world z) from `reference` to `direction`."""
     (first, second), _ = heading_elevation(np.array([reference, direction]))
-    return math.degrees((second - first + math.pi) % (2 * math.pi) - math.pi)
+    return math.degrees(wrap(second - first))
 
 
 def _median(values: list) -> float:

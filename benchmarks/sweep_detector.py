@@ -42,8 +42,8 @@ from hsr_handover.scenario import Scenario, load_scenario  # noqa: E402
 SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "intent_reference.yaml"
 PAPER_SUCCESS = sum(PAPER_BY_POSITION.values()) / len(PAPER_BY_POSITION)
 COLUMNS = ("detector", "pointing_error_deg", "requests", "success", "success_low",
-           "success_high", *POSITIONS, "distractors", "false_triggers", "false_low", "false_high",
-           "latency_median_s", "failed")  # fmt: skip
+           "success_high", *POSITIONS, "distractors", "distractors_run", "false_triggers",
+           "false_low", "false_high", "latency_median_s", "failed")  # fmt: skip
 
 
 def interval(rate: float, count: int) -> tuple[float, float]:
@@ -52,6 +52,15 @@ def interval(rate: float, count: int) -> tuple[float, float]:
         return 0.0, 1.0
     ci = binomtest(round(rate * count), count).proportion_ci(0.95, method="wilson")
     return float(ci.low), float(ci.high)
+
+
+def with_intervals(row: dict) -> dict:
+    """The row with the 95 % Wilson intervals of its success and false-trigger rates (over the
+    distractors that ran; a row saved without that count: over all its distractors)."""
+    distractors = row.get("distractors_run", row["distractors"])
+    row["success_low"], row["success_high"] = interval(row["success"], row["requests"])
+    row["false_low"], row["false_high"] = interval(row["false_triggers"], distractors)
+    return row
 
 
 def detector_setting(name: str) -> tuple[str, float]:
@@ -119,20 +128,16 @@ def run(args: argparse.Namespace) -> list[dict]:
         experiment = IntentExperiment(specs[first : first + count], outcomes[first : first + count],
                                       scenario, args.seed, wall, args.layouts)  # fmt: skip
         summary = summarise(experiment)
-        success = interval(summary["success_rate"], summary["trials"])
-        ran = [r for r in experiment.rows() if r["kind"] != "request" and not r["error"]]
-        false = interval(summary["false_trigger_rate"], len(ran))
-        rows.append({
+        rows.append(with_intervals({
             "detector": detector, "pointing_error_deg": pointing,
             "requests": summary["trials"], "success": summary["success_rate"],
-            "success_low": success[0], "success_high": success[1],
             **{side: summary["by_position"][side] for side in POSITIONS},
             "distractors": summary["distractor_trials"],
+            "distractors_run": summary["distractor_trials_run"],
             "false_triggers": summary["false_trigger_rate"],
-            "false_low": false[0], "false_high": false[1],
             "latency_median_s": summary["latency_s"]["median"],
             "failed": summary["failed_trials"],
-        })  # fmt: skip
+        }))  # fmt: skip
     return rows
 
 
@@ -191,13 +196,7 @@ def plot(rows: list[dict], path: Path) -> None:
 
 def _saved_rows(path: Path, parser: argparse.ArgumentParser) -> list[dict]:
     try:
-        rows = json.loads(path.read_text())["settings"]
-        for row in rows:  # a run saved before the intervals were written
-            if "success_low" not in row:
-                row["success_low"], row["success_high"] = interval(row["success"], row["requests"])
-                row["false_low"], row["false_high"] = interval(
-                    row["false_triggers"], row["distractors"] - row["failed"]
-                )
+        rows = [with_intervals(row) for row in json.loads(path.read_text())["settings"]]
     except (OSError, ValueError, KeyError, TypeError) as error:
         parser.error(f"--replot: expected a JSON file this script wrote, {path}: {error}")
     return rows

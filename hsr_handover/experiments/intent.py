@@ -175,6 +175,7 @@ def summarise(experiment: IntentExperiment) -> dict:
     return {
         "trials": len(requests),
         "distractor_trials": len(distractors),
+        "distractor_trials_run": len(distractors_run),  # false_trigger_rate's denominator
         "success_rate": rate(sum(success), len(requests)),
         "by_position": by_position,
         "paper_by_position": PAPER_BY_POSITION,

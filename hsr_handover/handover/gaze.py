@@ -8,13 +8,10 @@ import math
 import numpy as np
 
 from hsr_handover.hsr import CAMERA_FRAME
+from hsr_handover.perception.active_gaze import wrap
 from hsr_handover.planning.planning_scene import PlanningScene
 
 ITERATIONS = 3  # pan and tilt corrected in turn; the camera sits off the joints' axes
-
-
-def _wrap(angle: float) -> float:
-    return (angle + math.pi) % (2 * math.pi) - math.pi
 
 
 def look_at(robot: PlanningScene, q: np.ndarray, target: np.ndarray) -> tuple[float, float]:
@@ -29,7 +26,7 @@ def look_at(robot: PlanningScene, q: np.ndarray, target: np.ndarray) -> tuple[fl
         pose = camera.CalcPoseInWorld(context)
         to_target = np.asarray(target, dtype=float) - pose.translation()
         forward = pose.rotation().matrix()[:, 2]
-        q[pan_at] += _wrap(_heading(to_target) - _heading(forward))
+        q[pan_at] += wrap(_heading(to_target) - _heading(forward))
         q[tilt_at] += _elevation(to_target) - _elevation(forward)
         q = np.clip(q, plant.GetPositionLowerLimits(), plant.GetPositionUpperLimits())
     return float(q[pan_at]), float(q[tilt_at])

@@ -672,15 +672,11 @@ class IntentTracker:
         was last seen once lifted (HELD_MOVED_M from where it stood when recognised), the hand
         since gone out of the camera's view; None before the target, or never seen held."""
         target = self.state_.target
-        if target is None:
-            return None
-        seen = dict(candidates).get(target)
-        if seen is not None:
-            return seen
-        last = self._objects.get(target)
-        if last is None or self._stood is None:
-            return None
-        return last if np.linalg.norm(last - self._stood) > HELD_MOVED_M else None
+        last = None if target is None else self._objects.get(target)  # this frame's, if seen
+        if last is None or any(label == target for label, _ in candidates):
+            return last
+        lifted = self._stood is not None and np.linalg.norm(last - self._stood) > HELD_MOVED_M
+        return last if lifted else None
 
     def _below(self, observed: Observation, center: np.ndarray) -> bool:
         """Whether the eyes look more than `correction_below_deg` below `center`: at a hand
