@@ -12,9 +12,10 @@ import statistics
 import time
 from pathlib import Path
 
+import numpy as np
 from pydrake.systems.analysis import Simulator
 
-from hsr_handover.hsr import CAMERA_FRAME
+from hsr_handover.hsr import CAMERA_FRAME, COMMANDED_JOINTS
 from hsr_handover.scenario import load_scenario
 from hsr_handover.simulation import build_simulation
 from hsr_handover.station import build_station
@@ -38,6 +39,11 @@ def _time_render(repeats: int = 12) -> dict[str, float]:
     station = build_station(load_scenario(DEMO))
     camera = station.diagram.GetSubsystemByName("head_camera")
     context = station.diagram.CreateDefaultContext()
+    # The station's commands have no defaults; nothing steps here, so any value will do.
+    station.diagram.GetInputPort("hsr_desired_state").FixValue(
+        context, np.zeros(2 * len(COMMANDED_JOINTS))
+    )
+    station.diagram.GetInputPort("gripper_desired_opening").FixValue(context, [0.0])
     station.diagram.ExecuteInitializationEvents(context)  # the first capture poses the scene
     scene = station.diagram.GetSubsystemByName("camera_scene_graph")
     query = scene.get_query_output_port().Eval(scene.GetMyContextFromRoot(context))

@@ -1,4 +1,4 @@
-"""Figs. 8 and 14 in the replay (issue 9, part 3): the arm's effectivity map at the robot's
+"""Figs. 8 and 14 in the replay: the arm's effectivity map at the robot's
 handover base, the person's reachable range, the mutual area in red and the handover point,
 drawn over the recorded watch. Each is its own entry under EFFECTIVITY in Meshcat's tree, so the
 viewer's controls switch it on and off; they are drawn once the figures are known, so the
@@ -7,12 +7,12 @@ replay shows them throughout.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import numpy as np
 from pydrake.geometry import Meshcat, Sphere
 from pydrake.math import RigidTransform
 
+from hsr_handover.effectivity.person_map import PersonEffectivity
+from hsr_handover.planning.handover_pose import HandoverPose
 from hsr_handover.systems.cycle_visualizer import (
     HANDOVER_POINT_RADIUS,
     HANDOVER_POINT_RGBA,
@@ -20,31 +20,31 @@ from hsr_handover.systems.cycle_visualizer import (
     draw_points,
 )
 
-if TYPE_CHECKING:  # effectivity draws with this module
-    from hsr_handover.experiments.effectivity import EffectivityResult
-
 EFFECTIVITY = "effectivity"
 
 
-def effectivity_layers(result: EffectivityResult) -> dict[str, np.ndarray]:
+def effectivity_layers(
+    person: PersonEffectivity | None, handover: HandoverPose | None
+) -> dict[str, np.ndarray]:
     """The point sets (n, 3, world) to draw, by layer name; a layer with nothing is left out."""
     layers = {}
-    if result.person is not None:
-        layers["person_range"] = result.person.nodes
-    handover = result.handover
+    if person is not None:
+        layers["person_range"] = person.nodes
     if handover is not None and handover.robot_nodes is not None:
         layers["arm_map"] = handover.robot_nodes[~handover.mutual]
         layers["mutual_area"] = handover.robot_nodes[handover.mutual]
     return {name: points for name, points in layers.items() if len(points)}
 
 
-def draw_effectivity(meshcat: Meshcat, result: EffectivityResult) -> list[str]:
-    """Draw the figures' layers and the handover point; the Meshcat paths drawn."""
+def draw_effectivity(
+    meshcat: Meshcat, person: PersonEffectivity | None, handover: HandoverPose | None
+) -> list[str]:
+    """Draw the person's range, the arm's map with its mutual area and the handover point; the
+    Meshcat paths drawn."""
     paths = []
-    for name, points in effectivity_layers(result).items():
+    for name, points in effectivity_layers(person, handover).items():
         paths.append(f"{EFFECTIVITY}/{name}")
         draw_points(meshcat, paths[-1], points, MAP_RGBA[name])
-    handover = result.handover
     if handover is not None and handover.point is not None:
         paths.append(f"{EFFECTIVITY}/handover_point")
         meshcat.SetObject(paths[-1], Sphere(HANDOVER_POINT_RADIUS), HANDOVER_POINT_RGBA)

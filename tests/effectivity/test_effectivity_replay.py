@@ -6,7 +6,6 @@ import numpy as np
 import pytest
 
 from hsr_handover.effectivity.person_map import HumanArm, PersonEffectivity
-from hsr_handover.experiments.effectivity import EffectivityResult
 from hsr_handover.experiments.effectivity_replay import (
     EFFECTIVITY,
     draw_effectivity,
@@ -24,11 +23,6 @@ def person() -> PersonEffectivity:
                                       0.30, 0.25, 0.09))  # fmt: skip
 
 
-def _result(person, handover) -> EffectivityResult:
-    return EffectivityResult(np.zeros((3, 3)), np.zeros((0, 2), dtype=int), 0.01, 0.02,
-                             np.zeros((0, 3)), person, handover, "ok", 1.0)  # fmt: skip
-
-
 def _handover() -> HandoverPose:
     nodes = np.array([[1.2, 0.2, 0.95], [1.3, 0.2, 0.95], [0.5, 0.0, 0.9]])
     mutual = np.array([True, True, False])
@@ -36,23 +30,21 @@ def _handover() -> HandoverPose:
 
 
 def test_the_layers_split_the_robots_map_at_the_mutual_area(person):
-    layers = effectivity_layers(_result(person, _handover()))
+    layers = effectivity_layers(person, _handover())
     assert set(layers) == {"person_range", "arm_map", "mutual_area"}
     np.testing.assert_allclose(layers["mutual_area"], _handover().robot_nodes[:2])
     np.testing.assert_allclose(layers["arm_map"], _handover().robot_nodes[2:])
     assert len(layers["person_range"]) == len(person.nodes)
     # No person seen: nothing of theirs, no mutual area.
-    assert effectivity_layers(_result(None, None)) == {}
+    assert effectivity_layers(None, None) == {}
 
 
 def test_each_layer_and_the_handover_point_is_its_own_meshcat_entry(person):
     meshcat = make_local_meshcat()
-    paths = draw_effectivity(meshcat, _result(person, _handover()))
+    paths = draw_effectivity(meshcat, person, _handover())
     expected = {f"{EFFECTIVITY}/{name}" for name in
                 ("person_range", "arm_map", "mutual_area", "handover_point")}  # fmt: skip
     assert set(paths) == expected
     assert all(meshcat.HasPath(path) for path in paths)
     failed = HandoverPose(False, "no mutual area", _handover().ideal)
-    assert draw_effectivity(make_local_meshcat(), _result(person, failed)) == [
-        f"{EFFECTIVITY}/person_range"
-    ]
+    assert draw_effectivity(make_local_meshcat(), person, failed) == [f"{EFFECTIVITY}/person_range"]
