@@ -23,6 +23,7 @@ from hsr_handover.intent import IntentState
 from hsr_handover.perception.rgbd_session import SESSION, RgbdSession, read_session
 from hsr_handover.robot import build_robot
 from hsr_handover.scenario import Scenario, load_scenario
+from hsr_handover.systems.port_types import check_abstract_connections
 from hsr_handover.systems.session_player import SessionPlayer
 
 
@@ -72,6 +73,7 @@ def perceive_session(directory: Path) -> OfflineIntent:
         port = robot.get_input_port(index)
         builder.Connect(player.GetOutputPort(port.get_name()), port)
     diagram = builder.Build()
+    check_abstract_connections(diagram)
     simulator = Simulator(diagram)
     period = 1.0 / scenario.camera.rate_hz
     simulator.AdvanceTo(session.stamps[-1] - start + period)

@@ -32,6 +32,7 @@ from hsr_handover.scenario import Scenario
 from hsr_handover.station import Station, build_station, check_initial_clearance
 from hsr_handover.systems.cycle_visualizer import CycleVisualizer
 from hsr_handover.systems.graph_visualizer import add_graph_visualizer
+from hsr_handover.systems.port_types import check_abstract_connections
 from hsr_handover.systems.session_recorder import SessionRecorder
 
 ProgressCallback = Callable[[float, float], None]
@@ -114,6 +115,7 @@ def build_simulation(
         _add_session_recorder(builder, station.diagram, scenario, record)
     diagram = builder.Build()
     diagram.set_name("hsr_handover")
+    check_abstract_connections(diagram)
     return Simulation(diagram, station, robot)
 
 
@@ -262,6 +264,7 @@ def _cycle_ended(simulation: Simulation, root: Context, after_s: float) -> bool:
 
 def _person(simulation: Simulation, root: Context) -> tuple[str, float]:
     """What the person holds at the end, and when they asked again for want of a response."""
-    actor = simulation.station.diagram.GetSubsystemByName("human_actor")
-    context = actor.GetMyContextFromRoot(root)
-    return actor.GetOutputPort("grip").Eval(context), actor.repeated_at(context)
+    station = simulation.station.diagram
+    context = station.GetMyContextFromRoot(root)
+    grip = station.GetOutputPort(interface.TRUTH_PERSON_GRIP).Eval(context)
+    return grip, float(station.GetOutputPort(interface.TRUTH_PERSON_REPEATED_AT).Eval(context)[0])

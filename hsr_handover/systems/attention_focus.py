@@ -8,6 +8,8 @@ from pydrake.common.value import AbstractValue
 from pydrake.systems.framework import Context, LeafSystem
 
 from hsr_handover.perception.attention import FocusChange, attended_regions, focus_at
+from hsr_handover.perception.object_detection import DetectionResult
+from hsr_handover.perception.skeleton import Skeleton
 
 
 class AttentionFocus(LeafSystem):
@@ -19,8 +21,12 @@ class AttentionFocus(LeafSystem):
     def __init__(self, schedule: Sequence[FocusChange]):
         super().__init__()
         self._schedule = tuple(sorted(schedule, key=lambda change: change.start))
-        self._skeleton = self.DeclareAbstractInputPort("skeleton", AbstractValue.Make(object()))
-        self._detections = self.DeclareAbstractInputPort("detections", AbstractValue.Make(object()))
+        self._skeleton = self.DeclareAbstractInputPort(
+            "skeleton", AbstractValue.Make(Skeleton.missing("not read"))
+        )
+        self._detections = self.DeclareAbstractInputPort(
+            "detections", AbstractValue.Make(DetectionResult((), "not read"))
+        )
         self.DeclareAbstractOutputPort(
             "attention", lambda: AbstractValue.Make(()), self._calc_attention
         )

@@ -20,6 +20,8 @@ from pydrake.perception import BaseField, Fields, PointCloud
 from pydrake.systems.framework import Context, LeafSystem
 
 from hsr_handover.handover.plan_view import PlanView
+from hsr_handover.intent import IntentState
+from hsr_handover.perception.object_detection import DetectionResult
 from hsr_handover.systems.meshcat_recording import Snapshots, set_pose, set_visible
 
 CYCLE = "/cycle"
@@ -52,9 +54,11 @@ class CycleVisualizer(LeafSystem):
         if not publish_period > 0:
             raise ValueError(f"publish_period: expected a positive period, got {publish_period}")
         self._meshcat = meshcat
-        self._intent = self.DeclareAbstractInputPort("intent", AbstractValue.Make(object()))
+        self._intent = self.DeclareAbstractInputPort("intent", AbstractValue.Make(IntentState()))
         self._rays = self.DeclareAbstractInputPort("intent_rays", AbstractValue.Make((None, None)))
-        self._detections = self.DeclareAbstractInputPort("detections", AbstractValue.Make(object()))
+        self._detections = self.DeclareAbstractInputPort(
+            "detections", AbstractValue.Make(DetectionResult((), "not read"))
+        )
         self._plan = self.DeclareAbstractInputPort("plan_view", AbstractValue.Make(PlanView()))
         self._path = Snapshots(meshcat, f"{CYCLE}/palm_path", KEEP)
         self._maps = {name: Snapshots(meshcat, f"{CYCLE}/{name}", KEEP) for name in MAP_RGBA}

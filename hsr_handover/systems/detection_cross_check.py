@@ -7,6 +7,7 @@ from pydrake.systems.framework import Context, LeafSystem
 
 from hsr_handover.perception.cloud_map import GraphSnapshot
 from hsr_handover.perception.cross_check import support_of
+from hsr_handover.perception.object_detection import DetectionResult
 
 
 class DetectionCrossCheck(LeafSystem):
@@ -15,7 +16,9 @@ class DetectionCrossCheck(LeafSystem):
 
     def __init__(self):
         super().__init__()
-        self._detections = self.DeclareAbstractInputPort("detections", AbstractValue.Make(object()))
+        self._detections = self.DeclareAbstractInputPort(
+            "detections", AbstractValue.Make(DetectionResult((), "not read"))
+        )
         self._graph = self.DeclareAbstractInputPort(
             "graph", AbstractValue.Make(GraphSnapshot.empty())
         )

@@ -47,9 +47,11 @@ from hsr_handover.handover.plan_view import PlanView
 from hsr_handover.handover.scene_memory import remember
 from hsr_handover.handover.watch_view import WatchView
 from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY, HEAD_JOINTS
-from hsr_handover.intent import IntentParams, IntentTracker
+from hsr_handover.intent import IntentParams, IntentState, IntentTracker
 from hsr_handover.perception.coco18 import keypoint_index
 from hsr_handover.perception.facing import SteadyFacing
+from hsr_handover.perception.object_detection import DetectionResult
+from hsr_handover.perception.skeleton import Skeleton
 from hsr_handover.planning.perceived_scene import PerceivedScene
 from hsr_handover.systems.watching import WATCHING
 
@@ -99,10 +101,16 @@ class HandoverSupervisor(LeafSystem):
         self._state = self.DeclareVectorInputPort("hsr_state_measured", 2 * n)
         self._opening = self.DeclareVectorInputPort("gripper_opening_measured", 1)
         self._wrench = self.DeclareVectorInputPort("hsr_wrist_wrench_measured", 6)
-        self._intent = self.DeclareAbstractInputPort("intent", AbstractValue.Make(object()))
-        self._scene = self.DeclareAbstractInputPort("perceived_scene", AbstractValue.Make(object()))
-        self._skeleton = self.DeclareAbstractInputPort("skeleton", AbstractValue.Make(object()))
-        self._detections = self.DeclareAbstractInputPort("detections", AbstractValue.Make(object()))
+        self._intent = self.DeclareAbstractInputPort("intent", AbstractValue.Make(IntentState()))
+        self._scene = self.DeclareAbstractInputPort(
+            "perceived_scene", AbstractValue.Make(PerceivedScene(None))
+        )
+        self._skeleton = self.DeclareAbstractInputPort(
+            "skeleton", AbstractValue.Make(Skeleton.missing("not read"))
+        )
+        self._detections = self.DeclareAbstractInputPort(
+            "detections", AbstractValue.Make(DetectionResult((), "not read"))
+        )
         # Optional: the GazeController's move; unconnected, the head holds the ready posture's.
         self._gaze = self.DeclareVectorInputPort("head_command", 4)
         memory = _Memory(HandoverCycle(self._planner))

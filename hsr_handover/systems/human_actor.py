@@ -111,6 +111,7 @@ class HumanActor(LeafSystem):
             "person_desired_state", 2 * len(self._order), self._calc_desired_state
         )
         self.DeclareAbstractOutputPort("grip", lambda: AbstractValue.Make(""), self._calc_grip)
+        self.DeclareVectorOutputPort("repeated_at", 1, self._calc_repeated_at)
         if receiver is not None:
             self._poses = self.DeclareAbstractInputPort(
                 "body_poses", AbstractValue.Make([RigidTransform()])
@@ -153,11 +154,10 @@ class HumanActor(LeafSystem):
         q, v = timeline.evaluate(context.get_time())
         output.SetFromVector(np.concatenate([q[self._order], v[self._order]]))
 
-    def repeated_at(self, context: Context) -> float:
-        """When the person asked again for want of a response (s; NaN if they did not)."""
+    def _calc_repeated_at(self, context: Context, output: BasicVector) -> None:
         repeater = context.get_abstract_state(self._acting).get_value().repeater
         at = None if repeater is None else repeater.repeated_at
-        return math.nan if at is None else at
+        output.SetAtIndex(0, math.nan if at is None else at)
 
     def _calc_grip(self, context: Context, output: AbstractValue) -> None:
         receiver = context.get_abstract_state(self._acting).get_value().receiver

@@ -9,6 +9,8 @@ from pydrake.systems.framework import Context, LeafSystem, State
 
 from hsr_handover.intent import IntentParams, IntentState, IntentTracker
 from hsr_handover.perception.cross_check import confirmed_candidates
+from hsr_handover.perception.object_detection import DetectionResult
+from hsr_handover.perception.skeleton import Skeleton
 from hsr_handover.systems.frame_timing import PROCESSING_DELAY_S
 from hsr_handover.systems.watching import declare_watching_input, is_watching
 
@@ -40,8 +42,12 @@ class IntentEstimator(LeafSystem):
         if not 0 < delay < period:
             raise ValueError(f"delay: expected 0 < delay < period ({period} s), got {delay}")
         self._params = IntentParams() if params is None else params
-        self._skeleton = self.DeclareAbstractInputPort("skeleton", AbstractValue.Make(object()))
-        self._detections = self.DeclareAbstractInputPort("detections", AbstractValue.Make(object()))
+        self._skeleton = self.DeclareAbstractInputPort(
+            "skeleton", AbstractValue.Make(Skeleton.missing("not read"))
+        )
+        self._detections = self.DeclareAbstractInputPort(
+            "detections", AbstractValue.Make(DetectionResult((), "not read"))
+        )
         self._support = self.DeclareAbstractInputPort("detection_support", AbstractValue.Make(()))
         self._image_time = self.DeclareAbstractInputPort("image_time", AbstractValue.Make(math.nan))
         self._watching = declare_watching_input(self)

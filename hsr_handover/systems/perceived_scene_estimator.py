@@ -9,8 +9,11 @@ from pydrake.systems.framework import Context, LeafSystem
 from pydrake.systems.sensors import ImageDepth32F
 
 from hsr_handover.perception.depth_view import DepthView
+from hsr_handover.perception.object_detection import DetectionResult
 from hsr_handover.perception.object_shapes import measure_objects
 from hsr_handover.perception.pinhole import PinholeCamera
+from hsr_handover.perception.skeleton import Skeleton
+from hsr_handover.perception.table_fit import TableReport
 from hsr_handover.planning.perceived_scene import (
     PERSON_MARGIN,
     PerceivedScene,
@@ -38,15 +41,21 @@ class PerceivedSceneEstimator(LeafSystem):
         if not person_margin >= 0:
             raise ValueError(f"person_margin: expected a distance >= 0 m, got {person_margin}")
         self._camera, self._margin = camera, person_margin
-        self._table = self.DeclareAbstractInputPort("table", AbstractValue.Make(object()))
-        self._detections = self.DeclareAbstractInputPort("detections", AbstractValue.Make(object()))
+        self._table = self.DeclareAbstractInputPort(
+            "table", AbstractValue.Make(TableReport(None, 0, "not read"))
+        )
+        self._detections = self.DeclareAbstractInputPort(
+            "detections", AbstractValue.Make(DetectionResult((), "not read"))
+        )
         self._depth = self.DeclareAbstractInputPort(
             "depth_image", AbstractValue.Make(ImageDepth32F())
         )
         self._pose = self.DeclareAbstractInputPort(
             "camera_pose", AbstractValue.Make(RigidTransform())
         )
-        self._skeleton = self.DeclareAbstractInputPort("skeleton", AbstractValue.Make(object()))
+        self._skeleton = self.DeclareAbstractInputPort(
+            "skeleton", AbstractValue.Make(Skeleton.missing("not read"))
+        )
         self.DeclareAbstractOutputPort(
             "scene", lambda: AbstractValue.Make(PerceivedScene(None)), self._calc_scene
         )
