@@ -44,7 +44,11 @@ TRUTH_HSR_STATE = "truth_hsr_state"
 TRUTH_QUERY_OBJECT = "truth_query_object"
 TRUTH_LABEL_IMAGE = "truth_label_image"
 """The head camera's label image: which body each pixel shows, for scoring perception."""
+TRUTH_PERSON_GRIP = "truth_person_grip"
+"""The object the simulated person's hand holds ("" for none), for scoring a handover."""
+TRUTH_PERSON_REPEATED_AT = "truth_person_repeated_at"
+"""[t]: when the simulated person asked again for want of a response (s; NaN if they did not)."""
 TRUTH = (
     TRUTH_BODY_POSES, TRUTH_CONTACT_RESULTS, TRUTH_PERSON_STATE, TRUTH_HSR_STATE,
-    TRUTH_QUERY_OBJECT, TRUTH_LABEL_IMAGE,
+    TRUTH_QUERY_OBJECT, TRUTH_LABEL_IMAGE, TRUTH_PERSON_GRIP, TRUTH_PERSON_REPEATED_AT,
 )  # fmt: skip

@@ -18,6 +18,7 @@ import numpy as np
 from pydrake.systems.framework import Context, EventStatus
 
 from hsr_handover.experiments.true_clearance import HAND, PERSON, ROBOT, TABLE, geometry_owners
+from hsr_handover.interface import TRUTH_PERSON_GRIP
 from hsr_handover.simulation import Simulation
 from hsr_handover.systems.contact_pairs import contact_pairs
 
@@ -145,8 +146,8 @@ class HandoverScorer:
         self._owner = geometry_owners(station)
         self._target_geometries = {g for g, owner in self._owner.items() if owner == target}
         self._bodies = {name: self._body(instance) for name, instance in station.objects.items()}
-        actor = station.diagram.GetSubsystemByName("human_actor")
-        self._actor, self._grip = actor, actor.GetOutputPort("grip")
+        self._station = station.diagram
+        self._grip = station.diagram.GetOutputPort(TRUTH_PERSON_GRIP)
         self._next_clearance = 0.0
         robot = self._robot = simulation.robot.diagram
         perceives = robot.HasOutputPort(PERCEIVED_TABLE)
@@ -183,7 +184,7 @@ class HandoverScorer:
             self.score.table_height_error = float(np.fmax(self.score.table_height_error, error))
 
     def _grip_now(self, root: Context) -> str:
-        return self._grip.Eval(self._actor.GetMyContextFromRoot(root))
+        return self._grip.Eval(self._station.GetMyContextFromRoot(root))
 
     def _contacts(self, plant_context) -> list[tuple[str, str]]:
         """The owners of each pair of geometries in contact now."""

@@ -144,6 +144,8 @@ def _add_person(builder, plant, robot, person, objects, body, timeline, scenario
     indices = tuple(int(hand.index()) for hand in hands.values())
     grip = builder.AddNamedSystem("hand_grip", HandGrip(indices, bodies))
     builder.Connect(actor.GetOutputPort("grip"), grip.GetInputPort("grip"))
+    builder.ExportOutput(actor.GetOutputPort("grip"), interface.TRUTH_PERSON_GRIP)
+    builder.ExportOutput(actor.GetOutputPort("repeated_at"), interface.TRUTH_PERSON_REPEATED_AT)
     builder.Connect(plant.get_body_poses_output_port(), grip.GetInputPort("body_poses"))
     builder.Connect(
         plant.get_body_spatial_velocities_output_port(),
