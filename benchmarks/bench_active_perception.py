@@ -20,7 +20,8 @@ import json
 import time
 from pathlib import Path
 
-from hsr_handover.experiments import handover, intent
+from hsr_handover.experiments.handover import trial as handover
+from hsr_handover.experiments.intent import trial as intent
 from hsr_handover.experiments.reporting import json_safe
 from hsr_handover.experiments.trial_classes import class_lines
 from hsr_handover.experiments.trials import TrialProgress

@@ -15,8 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
-from hsr_handover.effectivity import ArmMapParams, load_or_build
 from hsr_handover.kinematics.hsr_arm import palm_position, sample_arm_joints
+from hsr_handover.robot.effectivity import ArmMapParams, load_or_build
 
 
 def _timed(call) -> tuple[float, object]:

@@ -2,16 +2,15 @@
 experiment's, scored as the experiment scores them), in three configurations run side by side
 in the same process, one trial at a time:
 
-- `every frame` (the baseline): the reference scenario as before session 22, with every
-  perception system working on every camera frame (the robot builder's WATCH_ONLY emptied, so
-  the scene map and the intent estimator never rest and every frame is rendered) and 2 ms
-  plant steps;
-- `2 ms step`: as before session 23, the scenario with 2 ms plant steps;
+- `every frame` (the baseline): the reference scenario with every perception system working
+  on every camera frame (the robot builder's WATCH_ONLY emptied, so the scene map and the
+  intent estimator never rest and every frame is rendered) and 2 ms plant steps;
+- `2 ms step`: the scenario with 2 ms plant steps;
 - `reference`: the scenario as it is (`scenarios/handover_reference.yaml`: the 3 ms default
   plant step, the camera at 30 Hz; the scene map and the intent estimator rest while the
-  robot acts, and frames nobody reads are not rendered). Session 10 tried 4 ms with the
-  camera at 15 Hz: 1.7x faster over the 64-trial run, but a grasp slipped at 4 ms and a
-  request went unrecognised at 15 Hz.
+  robot acts, and frames nobody reads are not rendered). 4 ms steps with the camera at 15 Hz
+  run 1.7x faster over the 64-trial run, but a grasp slips at 4 ms and a request goes
+  unrecognised at 15 Hz.
 
 Each trial's outcome is printed beside its time: a configuration that changes the handover
 shows.
@@ -31,14 +30,14 @@ import time
 from pathlib import Path
 from unittest import mock
 
-from hsr_handover.experiments.handover import run_handover_trial
-from hsr_handover.experiments.handover_trials import make_trials
+from hsr_handover.experiments.handover.trial import run_handover_trial
+from hsr_handover.experiments.handover.trials import make_trials
 from hsr_handover.robot import builder as robot_builder
 from hsr_handover.scenario import Scenario, load_scenario
 
 REFERENCE = Path(__file__).resolve().parents[1] / "scenarios" / "handover_reference.yaml"
 TWO_MS = {"time_step": 0.002}
-"""The plant step before session 23 (the default is 3 ms since)."""
+"""The finer plant step (the default is 3 ms)."""
 
 
 @dataclasses.dataclass(frozen=True)

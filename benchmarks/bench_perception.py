@@ -1,8 +1,8 @@
 """Perception speed: per-stage medians for one head-camera frame (the GNG learns from 200 x 200)
 and the real-time factor of attention_shift.yaml with perception on, for the camera as it was
 (640 x 480 colour, depth and label at 30 Hz: the baseline), without the label image, and at
-320 x 240 (as the experiments run) with the person drawn as exact primitives (as before
-session 8) and coarse (now), against the same scene with perception off, all in the same run.
+320 x 240 (as the experiments run) with the person drawn as exact primitives and coarse (as
+the station draws it), against the same scene with perception off, all in the same run.
 
     python benchmarks/bench_perception.py [--repeats 20] [--runs 3] [--duration 3]
 """
@@ -19,12 +19,12 @@ from pathlib import Path
 
 from pydrake.systems.analysis import Simulator
 
-import hsr_handover.scene.person_model as person_model
-from hsr_handover.perception.chest_plane import chest_forward
-from hsr_handover.perception.cloud_map import Workspace, learn_frame
+import hsr_handover.world.scene.person_model as person_model
+from hsr_handover.robot.perception.chest_plane import chest_forward
+from hsr_handover.robot.perception.cloud_map import Workspace, learn_frame
 from hsr_handover.scenario import load_scenario
-from hsr_handover.scene import sdf_shapes
 from hsr_handover.simulation import build_simulation
+from hsr_handover.world.scene import sdf_shapes
 
 SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "attention_shift.yaml"
 TARGET_MS = 15.0

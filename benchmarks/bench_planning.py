@@ -1,4 +1,4 @@
-"""Planning from percepts (issue 9, part 8): grasp plans for the table's objects, and handover
+"""Planning from percepts: grasp plans for the table's objects, and handover
 plans into the mutual area from the first grasps (holding the object), in the bundled scenes and
 in copies with the table, its objects and the person moved, each target planned twice
 in the same run: seeded by the arm's effectivity map (base placement and IK seeds, eq. 11) and
@@ -28,14 +28,14 @@ from pathlib import Path
 
 import numpy as np
 
-from hsr_handover.effectivity.arm_map import load_or_build
-from hsr_handover.effectivity.person_map import PersonEffectivity
 from hsr_handover.experiments.trials import TrialProgress, run_trials
 from hsr_handover.experiments.true_clearance import TrueClearance
 from hsr_handover.experiments.watch import WATCH_S, watch
-from hsr_handover.planning.planner import CHECK_STEP, Plan, plan_grasp, plan_handover
-from hsr_handover.planning.planning_scene import PlanningScene
-from hsr_handover.planning.timing import joint_limits
+from hsr_handover.robot.effectivity.arm_map import load_or_build
+from hsr_handover.robot.effectivity.person_map import PersonEffectivity
+from hsr_handover.robot.planning.planner import CHECK_STEP, Plan, plan_grasp, plan_handover
+from hsr_handover.robot.planning.planning_scene import PlanningScene
+from hsr_handover.robot.planning.timing import joint_limits
 from hsr_handover.scenario import load_scenario
 
 ROOT = Path(__file__).resolve().parents[1] / "scenarios"

@@ -34,9 +34,9 @@ from pathlib import Path
 
 import numpy as np
 
-import hsr_handover.systems.point_cloud_gng as point_cloud_gng
-from hsr_handover.experiments import attention
-from hsr_handover.perception.cloud_map import SCENE_GNG_PARAMS, GraphSnapshot, learn_frame
+import hsr_handover.robot.systems.point_cloud_gng as point_cloud_gng
+from hsr_handover.experiments.attention import experiment as attention
+from hsr_handover.robot.perception.cloud_map import SCENE_GNG_PARAMS, GraphSnapshot, learn_frame
 from hsr_handover.scenario import load_scenario
 from hsr_handover.simulation import run_scenario
 from hsr_handover.topology.growing_neural_gas import GrowingNeuralGas

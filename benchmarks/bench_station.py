@@ -18,7 +18,7 @@ from pydrake.systems.analysis import Simulator
 from hsr_handover.hsr import CAMERA_FRAME, COMMANDED_JOINTS
 from hsr_handover.scenario import load_scenario
 from hsr_handover.simulation import build_simulation
-from hsr_handover.station import build_station
+from hsr_handover.world.station import build_station
 
 DEMO = Path(__file__).resolve().parents[1] / "scenarios" / "demo.yaml"
 

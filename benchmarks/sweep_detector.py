@@ -1,6 +1,6 @@
 """How the intent recogniser holds up as the pose detector and the person err more: the intent
 experiment across detector noise (ideal, realistic, 1.5x and 2x realistic; see
-`hsr_handover.perception.detector_model`) and the person's pointing error (5, 7.3, 11 and 15 deg
+`hsr_handover.world.sensors.detector_model`) and the person's pointing error (5, 7.3, 11 and 15 deg
 mean; Breuer et al. measured 7.3), every setting on the same trials (the same layouts, people
 and scripts, drawn from one seed), all trials in one parallel pool. Prints success by position
 and false triggers for each setting beside the paper's figures, and writes JSON, CSV and a plot.
@@ -26,14 +26,14 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from scipy.stats import binomtest  # noqa: E402
 
-from hsr_handover.experiments.intent import (  # noqa: E402
+from hsr_handover.experiments.intent.trial import (  # noqa: E402
     PAPER_BY_POSITION,
     POSITIONS,
     IntentExperiment,
     run_intent_trial,
     summarise,
 )
-from hsr_handover.experiments.intent_trials import make_trials  # noqa: E402
+from hsr_handover.experiments.intent.trials import make_trials  # noqa: E402
 from hsr_handover.experiments.reporting import write_json, write_rows  # noqa: E402
 from hsr_handover.experiments.trials import TrialProgress, run_trials  # noqa: E402
 from hsr_handover.literature import BREUER_POINTING_ERROR_DEG  # noqa: E402

@@ -20,11 +20,11 @@ from pathlib import Path
 
 import numpy as np
 
-from hsr_handover.experiments.intent import run_intent_trial
-from hsr_handover.experiments.intent_percepts import replay_intent
-from hsr_handover.experiments.intent_trials import make_trials
+from hsr_handover.experiments.intent.percepts import replay_intent
+from hsr_handover.experiments.intent.trial import run_intent_trial
+from hsr_handover.experiments.intent.trials import make_trials
 from hsr_handover.experiments.trials import TrialProgress, run_trials
-from hsr_handover.intent import IntentParams
+from hsr_handover.robot.intent import IntentParams
 from hsr_handover.scenario import load_scenario
 
 SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "intent_reference.yaml"

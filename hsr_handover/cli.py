@@ -249,8 +249,8 @@ def _intent(args: argparse.Namespace) -> int:
     """Run perception and intent on a recorded session; a folder that is not one, or whose
     settings are broken, is a usage error."""
     from hsr_handover.experiments.reporting import write_json
-    from hsr_handover.offline_intent import perceive_session
-    from hsr_handover.perception.rgbd_session import SessionError
+    from hsr_handover.recording.offline_intent import perceive_session
+    from hsr_handover.recording.rgbd_session import SessionError
 
     output = _output_path(args.json, "--json", ".json")
     if not args.session.is_dir():
@@ -301,8 +301,8 @@ def _validate(args: argparse.Namespace) -> int:
 
 
 def _attention(args: argparse.Namespace) -> int:
-    from hsr_handover.experiments.attention import run_attention
-    from hsr_handover.experiments.attention_report import (
+    from hsr_handover.experiments.attention.experiment import run_attention
+    from hsr_handover.experiments.attention.report import (
         plot,
         summary_lines,
         write_csv,
@@ -334,8 +334,8 @@ def _attention(args: argparse.Namespace) -> int:
 
 
 def _effectivity(args: argparse.Namespace) -> int:
-    from hsr_handover.experiments.effectivity import run_effectivity
-    from hsr_handover.experiments.effectivity_report import plot, summary_lines, write_json
+    from hsr_handover.experiments.effectivity.figures import run_effectivity
+    from hsr_handover.experiments.effectivity.report import plot, summary_lines, write_json
     from hsr_handover.scenario import load_scenario
 
     scenario = load_scenario(args.scenario)
@@ -408,12 +408,12 @@ def _experiment(args: argparse.Namespace) -> int:
 def _experiment_kind(kind: str):
     """The experiment's (run, summarise, report module)."""
     if kind == "intent":
-        from hsr_handover.experiments import intent, intent_report
+        from hsr_handover.experiments.intent import report, trial
 
-        return intent.run_intent_experiment, intent.summarise, intent_report
-    from hsr_handover.experiments import handover, handover_report
+        return trial.run_intent_experiment, trial.summarise, report
+    from hsr_handover.experiments.handover import report, trial
 
-    return handover.run_handover_experiment, handover.summarise, handover_report
+    return trial.run_handover_experiment, trial.summarise, report
 
 
 _OPENPOSE_OPTIONS = {
@@ -425,7 +425,7 @@ def _openpose(args: argparse.Namespace) -> int:
     """Read every path before printing or writing anything: one that is not OpenPose output
     is a usage error, with no partial output."""
     from hsr_handover.experiments.reporting import write_json
-    from hsr_handover.perception.openpose_check import check_openpose, summary_lines
+    from hsr_handover.recording.openpose_check import check_openpose, summary_lines
 
     output = _output_path(args.json, "--json", ".json")
     options = {

@@ -22,18 +22,23 @@ from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import Context, Diagram, DiagramBuilder, EventStatus
 
 from hsr_handover import interface
-from hsr_handover.handover.cycle import Cycle
 from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY
-from hsr_handover.intent import IntentState
-from hsr_handover.perception.rgbd_session import start_session
-from hsr_handover.replay import frame_view, make_local_meshcat, start_recording, write_replay
-from hsr_handover.robot import Robot, build_robot
+from hsr_handover.recording.rgbd_session import start_session
+from hsr_handover.recording.session_recorder import SessionRecorder
+from hsr_handover.replay.cycle_visualizer import CycleVisualizer
+from hsr_handover.replay.graph_visualizer import add_graph_visualizer
+from hsr_handover.replay.meshcat_replay import (
+    frame_view,
+    make_local_meshcat,
+    start_recording,
+    write_replay,
+)
+from hsr_handover.robot.builder import Robot, build_robot
+from hsr_handover.robot.handover.cycle import Cycle
+from hsr_handover.robot.intent import IntentState
 from hsr_handover.scenario import Scenario
-from hsr_handover.station import Station, build_station, check_initial_clearance
-from hsr_handover.systems.cycle_visualizer import CycleVisualizer
-from hsr_handover.systems.graph_visualizer import add_graph_visualizer
 from hsr_handover.systems.port_types import check_abstract_connections
-from hsr_handover.systems.session_recorder import SessionRecorder
+from hsr_handover.world.station import Station, build_station, check_initial_clearance
 
 ProgressCallback = Callable[[float, float], None]
 CYCLE = "cycle"  # the robot's output of its handover cycle

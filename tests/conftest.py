@@ -15,8 +15,8 @@ import pytest
 import yaml
 from pydrake.geometry import Meshcat
 
-from hsr_handover.experiments.handover_scoring import HandoverScorer, TrialScore
-from hsr_handover.replay import write_replay
+from hsr_handover.experiments.handover.scoring import HandoverScorer, TrialScore
+from hsr_handover.replay.meshcat_replay import write_replay
 from hsr_handover.scenario import Scenario, load_scenario
 from hsr_handover.simulation import RunReport, run_scenario
 

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hsr_handover.perception.coco18 import COCO18_KEYPOINTS
+from hsr_handover.interface.coco18 import COCO18_KEYPOINTS
 
 # A person facing the camera, in shoulder widths from the neck (u right, v down in the image);
 # their right side on the image's left. The neck lies midway between the shoulders, as in

@@ -7,7 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from hsr_handover.perception.active_gaze import (
+from hsr_handover.interface.coco18 import NUM_KEYPOINTS, keypoint_index
+from hsr_handover.robot.perception.active_gaze import (
     FRAMING,
     POINTED_AHEAD,
     SEARCH,
@@ -20,7 +21,6 @@ from hsr_handover.perception.active_gaze import (
     fit,
     pointed_at,
 )
-from hsr_handover.perception.coco18 import NUM_KEYPOINTS, keypoint_index
 
 VIEW = FieldOfView(math.radians(30.0), math.radians(23.4))  # the Xtion's 60 x 47 degrees
 LIMITS = ((-3.84, 1.75), (-1.57, 0.52))

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from hsr_handover.perception.attention import (
+from hsr_handover.robot.perception.attention import (
     AttentionRegion,
     FocusChange,
     attended_regions,

@@ -7,14 +7,14 @@ import math
 import numpy as np
 import pytest
 
-from hsr_handover.experiments.attention import (
+from hsr_handover.experiments.attention.experiment import (
     SMOOTHING_S,
     density_ratio,
     pixel_areas,
     settle_time,
 )
-from hsr_handover.perception.attention import AttentionRegion
-from hsr_handover.perception.cloud_map import GraphSnapshot
+from hsr_handover.robot.perception.attention import AttentionRegion
+from hsr_handover.robot.perception.cloud_map import GraphSnapshot
 
 
 def test_pixel_areas_measure_the_surface_and_skip_depth_jumps():

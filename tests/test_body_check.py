@@ -5,8 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hsr_handover.perception.body_check import LIFT_SLACK_M, REACH_BETWEEN, body_consistent
-from hsr_handover.perception.skeleton import keypoint_index, lift_keypoints
+from hsr_handover.interface.coco18 import keypoint_index
+from hsr_handover.robot.perception.body_check import LIFT_SLACK_M, REACH_BETWEEN, body_consistent
+from hsr_handover.robot.perception.skeleton import lift_keypoints
 from tests.test_skeleton_sensor import CAMERA, KEYPOINTS, SURFACE_OFFSET, X_WC, _synthetic_depth
 
 ALL = np.ones(18, dtype=bool)

@@ -7,10 +7,10 @@ import math
 import numpy as np
 import pytest
 
-from hsr_handover.perception.chest_plane import chest_forward
-from hsr_handover.perception.coco18 import NUM_KEYPOINTS, keypoint_index
-from hsr_handover.perception.pinhole import PinholeCamera
-from hsr_handover.perception.skeleton import lift_keypoints
+from hsr_handover.interface.coco18 import NUM_KEYPOINTS, keypoint_index
+from hsr_handover.interface.pinhole import PinholeCamera
+from hsr_handover.robot.perception.chest_plane import chest_forward
+from hsr_handover.robot.perception.skeleton import lift_keypoints
 
 CAMERA = PinholeCamera.from_fov_x(320, 240, 1.05)
 # The head camera 1 m up, looking along world +x (camera x right = world -y, y down = -z).

@@ -13,7 +13,7 @@ import pytest
 
 from hsr_handover.cli import _print_cycle, _ProgressBar
 from hsr_handover.experiments.reporting import format_value
-from hsr_handover.handover.cycle import Cycle, Phase
+from hsr_handover.robot.handover.cycle import Cycle, Phase
 from tests.conftest import SCENARIOS, meshcat_commands
 
 FULL_BAR = "[" + "#" * 30 + "]"

@@ -7,12 +7,18 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hsr_handover.human.behavior import posture_changes
-from hsr_handover.human.body import BodyDimensions
-from hsr_handover.human.correcting import Corrector
-from hsr_handover.human.receiving import RAISED, STILL_S, Receiver, Receiving, ReceivingParams
 from hsr_handover.scenario import load_scenario
-from hsr_handover.station.world import (
+from hsr_handover.world.person.behavior import posture_changes
+from hsr_handover.world.person.body import BodyDimensions
+from hsr_handover.world.person.correcting import Corrector
+from hsr_handover.world.person.receiving import (
+    RAISED,
+    STILL_S,
+    Receiver,
+    Receiving,
+    ReceivingParams,
+)
+from hsr_handover.world.station.world import (
     CORRECTION_STREAM,
     person_actions,
     request_again,

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from hsr_handover.perception.cloud_map import GraphSnapshot
-from hsr_handover.perception.cross_check import support_of
+from hsr_handover.robot.perception.cloud_map import GraphSnapshot
+from hsr_handover.robot.perception.cross_check import support_of
 
 
 def test_detections_are_confirmed_only_where_the_map_has_nodes():

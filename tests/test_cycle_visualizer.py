@@ -10,12 +10,12 @@ import pytest
 from pydrake.geometry import Meshcat
 from pydrake.systems.analysis import Simulator
 
-from hsr_handover.handover.plan_view import PlanView
-from hsr_handover.intent import IntentState
-from hsr_handover.intent.rays import Ray
-from hsr_handover.perception.object_detection import Detection, DetectionResult
-from hsr_handover.replay import make_local_meshcat, start_recording
-from hsr_handover.systems.cycle_visualizer import CYCLE, RAY_LENGTH, CycleVisualizer
+from hsr_handover.replay.cycle_visualizer import CYCLE, RAY_LENGTH, CycleVisualizer
+from hsr_handover.replay.meshcat_replay import make_local_meshcat, start_recording
+from hsr_handover.robot.handover.plan_view import PlanView
+from hsr_handover.robot.intent import IntentState
+from hsr_handover.robot.intent.rays import Ray
+from hsr_handover.robot.perception.object_detection import Detection, DetectionResult
 from tests.conftest import animation_keys, meshcat_commands, replay_commands, visibility_keys
 
 FPS = 20.0

@@ -9,16 +9,16 @@ import math
 import numpy as np
 import pytest
 
-from hsr_handover.perception.coco18 import keypoint_index
-from hsr_handover.perception.detector_model import (
+from hsr_handover.interface.coco18 import keypoint_index
+from hsr_handover.interface.pinhole import PinholeCamera
+from hsr_handover.world.sensors.detector_model import (
     KEYPOINT_SHARE,
     WRISTS,
     DetectorModel,
     DetectorState,
     advance,
 )
-from hsr_handover.perception.pinhole import PinholeCamera
-from hsr_handover.perception.skeleton import detect_keypoints
+from hsr_handover.world.sensors.pose_detector import detect_keypoints
 
 DT = 1.0 / 30.0
 NO_OBJECTS = np.zeros((0, 3))

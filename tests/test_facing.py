@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from hsr_handover.perception.facing import SteadyFacing, steady_facing
+from hsr_handover.robot.perception.facing import SteadyFacing, steady_facing
 
 
 def _heading(deg: float) -> np.ndarray:

@@ -13,10 +13,10 @@ from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import BasicVector, DiagramBuilder, LeafSystem
 
 from hsr_handover.hsr import COMMANDED_JOINTS
-from hsr_handover.perception.active_gaze import FRAMING, SEARCH, FieldOfView
-from hsr_handover.perception.object_detection import DetectionResult
-from hsr_handover.perception.skeleton import Skeleton
-from hsr_handover.systems.gaze_controller import HEAD_ROWS, GazeController
+from hsr_handover.robot.perception.active_gaze import FRAMING, SEARCH, FieldOfView
+from hsr_handover.robot.perception.object_detection import DetectionResult
+from hsr_handover.robot.perception.skeleton import Skeleton
+from hsr_handover.robot.systems.gaze_controller import HEAD_ROWS, GazeController
 from tests.test_active_gaze import (
     CAMERA,
     LIMITS,

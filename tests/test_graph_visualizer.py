@@ -11,9 +11,9 @@ from pydrake.geometry import Meshcat
 from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import Context, DiagramBuilder, LeafSystem
 
-from hsr_handover.perception.cloud_map import GraphSnapshot
-from hsr_handover.replay import make_local_meshcat, start_recording
-from hsr_handover.systems.graph_visualizer import GraphVisualizer, add_graph_visualizer
+from hsr_handover.replay.graph_visualizer import GraphVisualizer, add_graph_visualizer
+from hsr_handover.replay.meshcat_replay import make_local_meshcat, start_recording
+from hsr_handover.robot.perception.cloud_map import GraphSnapshot
 from tests.conftest import hidden_paths, meshcat_commands, replay_commands, visibility_keys
 
 PATH = "/perception/gng"

@@ -6,11 +6,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from hsr_handover.experiments.handover import judge
-from hsr_handover.experiments.handover_trials import HandoverTrial
-from hsr_handover.handover.cycle import Phase
-from hsr_handover.human.receiving import DRAW_IN_S, TUG_S
+from hsr_handover.experiments.handover.trial import judge
+from hsr_handover.experiments.handover.trials import HandoverTrial
+from hsr_handover.robot.handover.cycle import Phase
 from hsr_handover.simulation import AFTER_CYCLE_S, CHUNK_S
+from hsr_handover.world.person.receiving import DRAW_IN_S, TUG_S
 
 
 def test_the_robot_hands_the_pointed_at_object_over(demo):

@@ -12,7 +12,9 @@ import numpy as np
 import pytest
 
 from hsr_handover.cli import main
-from hsr_handover.experiments.handover import (
+from hsr_handover.experiments.handover.report import plot, summary_lines, write_csv
+from hsr_handover.experiments.handover.scoring import TrialScore
+from hsr_handover.experiments.handover.trial import (
     FAILURES,
     SUCCESS_HOLD_S,
     HandoverExperiment,
@@ -20,15 +22,13 @@ from hsr_handover.experiments.handover import (
     run_handover_trial,
     summarise,
 )
-from hsr_handover.experiments.handover_report import plot, summary_lines, write_csv
-from hsr_handover.experiments.handover_scoring import TrialScore
-from hsr_handover.experiments.handover_trials import TIME_LIMIT_S, make_trials
+from hsr_handover.experiments.handover.trials import TIME_LIMIT_S, make_trials
 from hsr_handover.experiments.trials import TrialOutcome
-from hsr_handover.handover.cycle import Cycle, Failure, Phase
-from hsr_handover.handover.look_round import LOOK_ROUND_S
-from hsr_handover.human.body import BodyDimensions
+from hsr_handover.robot.handover.cycle import Cycle, Failure, Phase
+from hsr_handover.robot.handover.look_round import LOOK_ROUND_S
 from hsr_handover.scenario import load_scenario
-from hsr_handover.station import person_pose
+from hsr_handover.world.person.body import BodyDimensions
+from hsr_handover.world.station import person_pose
 from tests.conftest import SCENARIOS
 
 NAMES = {"red": "red_cup", "yellow": "yellow_box", "blue": "blue_cup"}

@@ -22,8 +22,8 @@ from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import DiagramBuilder
 from pydrake.systems.sensors import CameraInfo
 
-from hsr_handover.station.camera_scene import add_camera_scene, connect_camera
-from hsr_handover.systems.head_camera import HeadCamera
+from hsr_handover.world.station.camera_scene import add_camera_scene, connect_camera
+from hsr_handover.world.systems.head_camera import HeadCamera
 
 RATE_HZ = 10.0
 X_PC = RigidTransform(RollPitchYaw(-np.pi / 2, 0, -np.pi / 2), [0, 0, 0])  # looking along +x

@@ -1,4 +1,5 @@
-"""The HSR-B model (models/hsrb/hsrb.sdf) against DESIGN §4.1, the numpy FK and the PD helpers."""
+"""The HSR-B model (models/hsrb/hsrb.sdf) against docs/design.md §4.1, the numpy FK and the PD
+helpers."""
 
 from __future__ import annotations
 
@@ -30,7 +31,7 @@ from hsr_handover.hsr import (
 )
 from hsr_handover.kinematics.hsr_arm import palm_pose, sample_arm_joints
 
-# DESIGN §4.1, typed in independently of the SDF:
+# docs/design.md §4.1, typed in independently of the SDF:
 # joint: (type, axis, parent body, origin in parent, lower, upper, velocity limit).
 DESIGN_JOINTS = {
     "arm_lift_joint": ("prismatic", (0, 0, 1), "base_link", (0, 0, 0.340), 0, 0.69, 0.2),

@@ -5,8 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hsr_handover.human.aiming import arm_points, pointing_arm_angles, reaching_arm_angles
-from hsr_handover.human.behavior import (
+from hsr_handover.robot.intent.rays import angle_deg
+from hsr_handover.world.person.aiming import arm_points, pointing_arm_angles, reaching_arm_angles
+from hsr_handover.world.person.behavior import (
     MIN_MOVE_TIME,
     OVER_TABLE,
     PEAK_JOINT_SPEED,
@@ -18,13 +19,12 @@ from hsr_handover.human.behavior import (
     rest_posture,
     target_posture,
 )
-from hsr_handover.human.body import (
+from hsr_handover.world.person.body import (
     HAND_THICKNESS,
     PERSON_JOINTS,
     BodyDimensions,
     arm_joint_indices,
 )
-from hsr_handover.intent.rays import angle_deg
 
 BODY = BodyDimensions.from_height(1.70, seated=True)
 

@@ -7,12 +7,12 @@ import pytest
 from pydrake.math import RigidTransform
 from pydrake.systems.analysis import Simulator
 
-from hsr_handover.human.behavior import Action, PostureTimeline, posture_changes
-from hsr_handover.human.body import PERSON_JOINTS, BodyDimensions
-from hsr_handover.human.correcting import Corrector
-from hsr_handover.human.receiving import Receiver, ReceivingParams
-from hsr_handover.human.repeating import Repeater
-from hsr_handover.systems.human_actor import HumanActor, WorldBodies
+from hsr_handover.world.person.behavior import Action, PostureTimeline, posture_changes
+from hsr_handover.world.person.body import PERSON_JOINTS, BodyDimensions
+from hsr_handover.world.person.correcting import Corrector
+from hsr_handover.world.person.receiving import Receiver, ReceivingParams
+from hsr_handover.world.person.repeating import Repeater
+from hsr_handover.world.systems.human_actor import HumanActor, WorldBodies
 
 BODY = BodyDimensions.from_height(1.80, seated=False)
 

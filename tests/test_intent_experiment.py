@@ -13,10 +13,10 @@ import pytest
 from hsr_handover.cli import main
 from hsr_handover.experiments.arm_aim import arm_aim
 from hsr_handover.experiments.experiment import replay_name
-from hsr_handover.experiments.intent import IntentExperiment, run_intent_trial, summarise
-from hsr_handover.experiments.intent_percepts import replay_intent
-from hsr_handover.experiments.intent_report import plot, summary_lines, write_csv
-from hsr_handover.experiments.intent_trials import DISTRACTORS, make_trials, object_positions
+from hsr_handover.experiments.intent.percepts import replay_intent
+from hsr_handover.experiments.intent.report import plot, summary_lines, write_csv
+from hsr_handover.experiments.intent.trial import IntentExperiment, run_intent_trial, summarise
+from hsr_handover.experiments.intent.trials import DISTRACTORS, make_trials, object_positions
 from hsr_handover.experiments.trials import RAY_MISSING, TrialOutcome
 from hsr_handover.scenario import ImprecisionConfig, load_scenario
 from tests.conftest import SCENARIOS

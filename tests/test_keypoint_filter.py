@@ -7,8 +7,8 @@ import copy
 import numpy as np
 import pytest
 
-from hsr_handover.perception.coco18 import keypoint_index
-from hsr_handover.perception.keypoint_filter import KeypointFilter, KeypointFilterParams
+from hsr_handover.interface.coco18 import keypoint_index
+from hsr_handover.robot.perception.keypoint_filter import KeypointFilter, KeypointFilterParams
 
 DT = 1.0 / 30.0
 R_WRIST, L_WRIST = keypoint_index("r_wrist"), keypoint_index("l_wrist")

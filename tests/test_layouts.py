@@ -10,15 +10,15 @@ import math
 import numpy as np
 import pytest
 
-from hsr_handover.experiments.intent_trials import make_trials
+from hsr_handover.experiments.intent.trials import make_trials
 from hsr_handover.experiments.layouts import NEAR_EDGE, generate_layout
 from hsr_handover.experiments.seating import sit_clear
-from hsr_handover.perception.object_colors import OBJECT_COLORS
+from hsr_handover.interface.object_colors import OBJECT_COLORS
 from hsr_handover.scenario import ScenarioError, load_scenario
 from hsr_handover.scenario.checks import check_scenario
 from hsr_handover.scenario.schema import LayoutsConfig
 from hsr_handover.scenario.writing import write_scenario
-from hsr_handover.station import build_station, initial_overlaps
+from hsr_handover.world.station import build_station, initial_overlaps
 from tests.conftest import SCENARIOS
 
 BASE = SCENARIOS / "intent_reference.yaml"
@@ -116,7 +116,7 @@ def test_a_trial_layout_written_out_loads_back_the_same(tmp_path):
 
 
 def test_a_generated_trial_runs_with_its_layout_in_its_row_and_written_beside(tmp_path):
-    from hsr_handover.experiments.intent import run_intent_experiment, summarise
+    from hsr_handover.experiments.intent.trial import run_intent_experiment, summarise
 
     base = load_scenario(BASE)
     experiment = run_intent_experiment(

@@ -14,20 +14,20 @@ from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import DiagramBuilder
 from pydrake.systems.sensors import ImageDepth32F, ImageRgba8U
 
-from hsr_handover.perception.object_colors import OBJECT_COLORS
-from hsr_handover.perception.object_detection import (
+from hsr_handover.interface.object_colors import OBJECT_COLORS
+from hsr_handover.interface.pinhole import PinholeCamera
+from hsr_handover.robot.perception.object_detection import (
     DetectionResult,
     DetectorSettings,
     detect_objects,
 )
-from hsr_handover.perception.object_shapes import CYLINDER, fit_shape, object_points
-from hsr_handover.perception.pinhole import PinholeCamera
+from hsr_handover.robot.perception.object_shapes import CYLINDER, fit_shape, object_points
+from hsr_handover.robot.systems.object_detector import ObjectDetector
 from hsr_handover.scenario import load_scenario
 from hsr_handover.simulation import add_station_and_robot
-from hsr_handover.systems.object_detector import ObjectDetector
 from tests.conftest import SCENARIOS
 
-CENTER_TOLERANCE = 0.015  # m, the issue's target for unoccluded objects 0.8-1.5 m away
+CENTER_TOLERANCE = 0.015  # m, the target for unoccluded objects 0.8-1.5 m away
 TABLE_HEIGHT = 0.72
 SKIN, SHIRT, TROUSERS = (0.87, 0.70, 0.58), (0.45, 0.47, 0.50), (0.15, 0.17, 0.22)
 TABLE, SKY = (0.55, 0.42, 0.30), (0.80, 0.88, 1.00)
@@ -323,7 +323,7 @@ def test_rendered_scene_every_object_once_within_target_and_nothing_else(rendere
 def test_a_hand_in_front_of_a_cup_stays_out_of_its_shape():
     """A skin-coloured hand over two thirds of the cup's front, the cup showing round it, lies
     inside the cup's box: the shape is measured on the cup's own pixels (its blob), not
-    the box's (the reference's trial 38, session 22: a 7 cm cup read as a 16 cm box)."""
+    the box's (over the box, a 7 cm cup reads as a 16 cm box)."""
     cup = CUPS[0]
     X_WC = camera_pose()
     rgb, depth, silhouettes = render(CAMERA, X_WC, (cup,))

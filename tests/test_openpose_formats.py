@@ -11,8 +11,8 @@ import sys
 import numpy as np
 import pytest
 
-from hsr_handover.perception.coco18 import COCO18_KEYPOINTS, keypoint_index
-from hsr_handover.perception.openpose_json import (
+from hsr_handover.interface.coco18 import COCO18_KEYPOINTS, keypoint_index
+from hsr_handover.interface.openpose_json import (
     natural_sort_key,
     openpose_frame_files,
     read_openpose_frames,
@@ -312,7 +312,7 @@ def test_a_lone_broken_file_is_an_error_not_a_skipped_frame(tmp_path):
 def test_the_readers_are_numpy_only():
     """Layer 1: reading, tracking and summarising OpenPose output loads no Drake."""
     code = (
-        "import sys, hsr_handover.perception.openpose_check; "
+        "import sys, hsr_handover.recording.openpose_check; "
         "print(sorted(m for m in sys.modules if m.split('.')[0] in ('pydrake', 'cv2')))"
     )
     result = subprocess.run(

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 from pydrake.systems.analysis import Simulator
 
-from hsr_handover.perception.coco18 import COCO18_KEYPOINTS
-from hsr_handover.robot import PERCEPTION_OUTPUTS
+from hsr_handover.interface.coco18 import COCO18_KEYPOINTS
+from hsr_handover.robot.perception_wiring import PERCEPTION_OUTPUTS
 from hsr_handover.scenario import load_scenario, object_center
 from hsr_handover.simulation import build_simulation
 from tests.conftest import SCENARIOS, meshcat_commands
@@ -100,7 +100,7 @@ def test_attention_experiment_meets_the_papers_figures(tmp_path):
     )  # fmt: skip
     assert result.returncode == 0, result.stderr
     summary = json.loads(outputs["json"].read_text())
-    assert summary["density_ratio"] >= 4.0  # the issue's target (the paper: about 4x)
+    assert summary["density_ratio"] >= 4.0  # the paper's figure: about 4x
     assert summary["region_settle_time_s"] <= 0.5  # the map follows attention within 0.5 s
     assert summary["settle_time_s"] <= 1.5  # the node count (target 1 s; 0.5-1.0 s over seeds)
     for phase in summary["phases"][1:]:
@@ -113,7 +113,7 @@ def test_attention_experiment_meets_the_papers_figures(tmp_path):
 
 
 def test_the_table_is_fitted_to_the_point_clouds(watching_the_face):
-    """The planning scene's table (issue 9): top height within 1 cm, extent within 3 cm."""
+    """The planning scene's table: top height within 1 cm, extent within 3 cm."""
     station, percepts, _ = watching_the_face
     report, table = percepts["table"], station.scenario.table
     assert report.status == "ok" and report.frames >= 10
@@ -126,7 +126,7 @@ def test_the_table_is_fitted_to_the_point_clouds(watching_the_face):
 
 
 def test_the_planning_scene_matches_the_true_scene(watching_the_face):
-    """Issue 9's planning scene from percepts: each object where it stands, of its size; each
+    """The planning scene from percepts: each object where it stands, of its size; each
     of the person's true joints inside the capsules or hidden behind them from the camera (an
     elbow behind its own forearm on the table is lifted onto the forearm's top, 24 cm short)."""
     station, percepts, truth = watching_the_face

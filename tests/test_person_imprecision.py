@@ -1,4 +1,5 @@
-"""The simulated person is as imprecise as people are (DESIGN §3.3), reproducibly per seed."""
+"""The simulated person is as imprecise as people are (docs/design.md §3.3), reproducibly per
+seed."""
 
 from __future__ import annotations
 
@@ -7,19 +8,19 @@ import copy
 import numpy as np
 import pytest
 
-from hsr_handover.human.aiming import pointing_arm_angles
-from hsr_handover.human.behavior import (
+from hsr_handover.robot.intent.rays import angle_deg
+from hsr_handover.scenario import load_scenario
+from hsr_handover.world.person.aiming import pointing_arm_angles
+from hsr_handover.world.person.behavior import (
     Action,
     aim_head,
     posture_changes,
     rest_posture,
     target_posture,
 )
-from hsr_handover.human.body import ARM_JOINT_SUFFIXES, PERSON_JOINTS, BodyDimensions
-from hsr_handover.human.imprecision import perturb_direction
-from hsr_handover.intent.rays import angle_deg
-from hsr_handover.scenario import load_scenario
-from hsr_handover.station.world import person_actions
+from hsr_handover.world.person.body import ARM_JOINT_SUFFIXES, PERSON_JOINTS, BodyDimensions
+from hsr_handover.world.person.imprecision import perturb_direction
+from hsr_handover.world.station.world import person_actions
 from tests.conftest import SCENARIOS
 
 BODY = BodyDimensions.from_height(1.70, seated=True)

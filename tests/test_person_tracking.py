@@ -6,10 +6,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from hsr_handover.perception.coco18 import keypoint_index
-from hsr_handover.perception.openpose_format import to_detection
-from hsr_handover.perception.openpose_json import read_openpose_frames
-from hsr_handover.perception.person_tracking import (
+from hsr_handover.interface.coco18 import keypoint_index
+from hsr_handover.interface.openpose_format import to_detection
+from hsr_handover.interface.openpose_json import read_openpose_frames
+from hsr_handover.interface.person_tracking import (
     NO_PERSON,
     TRACKED_PERSON_ABSENT,
     PersonTracker,

@@ -8,10 +8,10 @@ import numpy as np
 from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.systems.sensors import CameraInfo
 
-from hsr_handover.perception.depth_view import DepthView
-from hsr_handover.perception.pinhole import PinholeCamera
+from hsr_handover.interface.camera_info import to_camera_info
+from hsr_handover.interface.pinhole import PinholeCamera
+from hsr_handover.robot.perception.depth_view import DepthView
 from hsr_handover.scenario import CameraConfig
-from hsr_handover.systems.head_camera import to_camera_info
 
 
 def _pose() -> np.ndarray:

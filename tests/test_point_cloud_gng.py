@@ -11,17 +11,17 @@ from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import DiagramBuilder, LeafSystem
 from pydrake.systems.sensors import ImageDepth32F
 
-from hsr_handover.perception.attention import AttentionRegion, FocusChange
-from hsr_handover.perception.cloud_map import (
+from hsr_handover.robot.perception.attention import AttentionRegion, FocusChange
+from hsr_handover.robot.perception.cloud_map import (
     SCENE_GNG_PARAMS,
     GraphSnapshot,
     Workspace,
     learn_frame,
 )
-from hsr_handover.systems.attention_focus import AttentionFocus
-from hsr_handover.systems.depth_downsampler import DepthDownsampler
+from hsr_handover.robot.systems.attention_focus import AttentionFocus
+from hsr_handover.robot.systems.depth_downsampler import DepthDownsampler
+from hsr_handover.robot.systems.point_cloud_gng import STATS, PointCloudGng
 from hsr_handover.systems.frame_timing import PROCESSING_DELAY_S
-from hsr_handover.systems.point_cloud_gng import STATS, PointCloudGng
 from hsr_handover.topology.growing_neural_gas import GrowingNeuralGas
 
 WORKSPACE = Workspace((0.0, -1.0, 0.0), (2.0, 1.0, 2.0))
@@ -48,7 +48,7 @@ def test_learn_frame_crops_to_the_workspace_and_reports_why_it_did_nothing():
 
 
 def test_attention_gathers_nodes_in_the_attended_region():
-    """Gain 16 on a surface gives about sqrt(16) = 4x the node density (DESIGN §3.1)."""
+    """Gain 16 on a surface gives about sqrt(16) = 4x the node density (docs/design.md §3.1)."""
     points = _plane(20000)
     region = AttentionRegion("hand", np.array([1.0, 0.0, 0.7]), 0.2)
     points_inside = region.contains(points).mean()

@@ -8,17 +8,19 @@ import math
 import numpy as np
 import pytest
 
-from hsr_handover.experiments.handover_trials import make_trials
+from hsr_handover.experiments.handover.trials import make_trials
 from hsr_handover.experiments.seating import sit_clear
-from hsr_handover.human.aiming import arm_points, pointing_arm_angles
-from hsr_handover.human.behavior import (
+from hsr_handover.robot.intent.rays import angle_deg
+from hsr_handover.scenario import load_scenario
+from hsr_handover.world.person.aiming import arm_points, pointing_arm_angles
+from hsr_handover.world.person.behavior import (
     PostureTimeline,
     arm_joint_indices,
     posture_changes,
     rest_posture,
 )
-from hsr_handover.human.body import HAND_WIDTH, BodyDimensions
-from hsr_handover.human.pointing_clearance import (
+from hsr_handover.world.person.body import HAND_WIDTH, BodyDimensions
+from hsr_handover.world.person.pointing_clearance import (
     MAX_RAISE,
     POINT_CLEAR,
     RAISE_STEP,
@@ -27,9 +29,7 @@ from hsr_handover.human.pointing_clearance import (
     hand_clearance,
     lowering_clearance,
 )
-from hsr_handover.intent.rays import angle_deg
-from hsr_handover.scenario import load_scenario
-from hsr_handover.station.world import object_uprights, person_actions
+from hsr_handover.world.station.world import object_uprights, person_actions
 from tests.conftest import SCENARIOS
 
 BODY = BodyDimensions.from_height(1.81, seated=True)

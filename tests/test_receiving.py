@@ -9,10 +9,10 @@ from pydrake.math import RigidTransform
 from pydrake.multibody.math import SpatialVelocity
 from pydrake.systems.analysis import Simulator
 
-from hsr_handover.human.aiming import arm_points, reaching_arm_angles
-from hsr_handover.human.behavior import rest_posture
-from hsr_handover.human.body import BodyDimensions, arm_joint_indices
-from hsr_handover.human.receiving import (
+from hsr_handover.world.person.aiming import arm_points, reaching_arm_angles
+from hsr_handover.world.person.behavior import rest_posture
+from hsr_handover.world.person.body import BodyDimensions, arm_joint_indices
+from hsr_handover.world.person.receiving import (
     ARRIVED,
     CLEAR,
     DRAW_IN_S,
@@ -28,7 +28,7 @@ from hsr_handover.human.receiving import (
     path_clearance,
     reach_point,
 )
-from hsr_handover.systems.hand_grip import GRIP_FREQUENCY, GRIP_PERIOD, GrippedBody, HandGrip
+from hsr_handover.world.systems.hand_grip import GRIP_FREQUENCY, GRIP_PERIOD, GrippedBody, HandGrip
 
 BODY = BodyDimensions.from_height(1.7, seated=True)
 SHOULDER = BODY.shoulder("right")

@@ -6,10 +6,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hsr_handover.human.body import BodyDimensions
-from hsr_handover.human.repeating import MOVED, Repeater
 from hsr_handover.scenario import load_scenario
-from hsr_handover.station.world import (
+from hsr_handover.world.person.body import BodyDimensions
+from hsr_handover.world.person.repeating import MOVED, Repeater
+from hsr_handover.world.station.world import (
     CORRECTION_STREAM,
     REPEAT_STREAM,
     last_request,

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hsr_handover.replay import (
+from hsr_handover.replay.meshcat_replay import (
     MIN_ASPECT,
     frame_view,
     framing_pose,

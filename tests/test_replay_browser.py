@@ -11,8 +11,13 @@ import pytest
 from pydrake.geometry import Box, Rgba
 from pydrake.math import RigidTransform
 
-from hsr_handover.replay import WEBGL_MISSING, make_local_meshcat, start_recording, write_replay
-from hsr_handover.systems.cycle_visualizer import CYCLE
+from hsr_handover.replay.cycle_visualizer import CYCLE
+from hsr_handover.replay.meshcat_replay import (
+    WEBGL_MISSING,
+    make_local_meshcat,
+    start_recording,
+    write_replay,
+)
 from tests.browser import (
     changed_pixels,
     distinct_colours,
@@ -22,7 +27,7 @@ from tests.browser import (
     require_browser,
 )
 
-REPLAY_LIMIT_BYTES = 15_000_000  # the bound for a 20 s run at the default replay rate
+REPLAY_LIMIT_BYTES = 15_000_000  # the bound for a 20 s run at the default replay rate
 
 
 @pytest.fixture(scope="module")

@@ -13,9 +13,10 @@ from pydrake.systems.analysis import Simulator
 from pydrake.systems.sensors import ImageDepth32F, ImageRgba8U
 
 from hsr_handover import interface
-from hsr_handover.perception.coco18 import NUM_KEYPOINTS
-from hsr_handover.perception.pinhole import PinholeCamera
-from hsr_handover.perception.rgbd_session import (
+from hsr_handover.interface.coco18 import NUM_KEYPOINTS
+from hsr_handover.interface.keypoints import Detection
+from hsr_handover.interface.pinhole import PinholeCamera
+from hsr_handover.recording.rgbd_session import (
     CAMERA_INFO,
     SessionError,
     SessionFrame,
@@ -24,9 +25,8 @@ from hsr_handover.perception.rgbd_session import (
     start_session,
     write_frame,
 )
-from hsr_handover.perception.skeleton import Detection
-from hsr_handover.systems.session_player import BEFORE_FIRST, SessionPlayer
-from hsr_handover.systems.session_recorder import SessionRecorder
+from hsr_handover.recording.session_player import BEFORE_FIRST, SessionPlayer
+from hsr_handover.recording.session_recorder import SessionRecorder
 
 CAMERA = PinholeCamera(32, 24, 30.0, 31.0, 15.5, 11.0)
 PERIOD = 0.1

@@ -8,7 +8,7 @@ import math
 import pytest
 
 from hsr_handover.cli import main
-from hsr_handover.perception.pinhole import PinholeCamera
+from hsr_handover.interface.pinhole import PinholeCamera
 from hsr_handover.scenario import CameraConfig, load_scenario
 from hsr_handover.scenario.schema import MAX_KEY_PATH
 from hsr_handover.scenario.strict_yaml import MAX_DEPTH

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hsr_handover.handover.cycle import Phase
 from hsr_handover.hsr import PALM_FRAME
+from hsr_handover.robot.handover.cycle import Phase
 from hsr_handover.scenario import load_scenario, object_center
 from hsr_handover.simulation import run_scenario
 from tests.conftest import bundled_scenarios

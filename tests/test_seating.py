@@ -10,7 +10,7 @@ import pytest
 from hsr_handover.experiments import seating
 from hsr_handover.experiments.seating import sit_clear
 from hsr_handover.scenario import load_scenario
-from hsr_handover.station.builder import Overlap
+from hsr_handover.world.station.builder import Overlap
 
 LAYOUT = Path(__file__).resolve().parents[1] / "scenarios" / "layouts" / "staggered_high_four.yaml"
 

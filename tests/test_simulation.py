@@ -16,12 +16,18 @@ from pydrake.systems.primitives import ConstantVectorSource
 
 from hsr_handover import interface
 from hsr_handover.hsr import COMMANDED_JOINTS
-from hsr_handover.robot import PERCEPTION_OUTPUTS, build_robot, ready_command
-from hsr_handover.robot.builder import GAZE_OUTPUTS, WATCH_ONLY, WATCH_OUTPUTS
+from hsr_handover.robot.builder import (
+    GAZE_OUTPUTS,
+    WATCH_ONLY,
+    WATCH_OUTPUTS,
+    build_robot,
+    ready_command,
+)
+from hsr_handover.robot.perception_wiring import PERCEPTION_OUTPUTS
+from hsr_handover.robot.systems.watching import WATCHING
 from hsr_handover.scenario import load_scenario
 from hsr_handover.simulation import build_simulation, connect_robot
-from hsr_handover.station import build_station
-from hsr_handover.systems.watching import WATCHING
+from hsr_handover.world.station import build_station
 from tests.conftest import SCENARIOS
 
 

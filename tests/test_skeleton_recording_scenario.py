@@ -9,10 +9,10 @@ import pytest
 
 from hsr_handover import interface
 from hsr_handover.cli import main
-from hsr_handover.perception.coco18 import keypoint_index
+from hsr_handover.interface.coco18 import keypoint_index
 from hsr_handover.scenario import ScenarioError, load_scenario
 from hsr_handover.simulation import build_simulation
-from hsr_handover.station.recorded_skeleton import read_scenario_recording
+from hsr_handover.world.station.recorded_skeleton import read_scenario_recording
 from tests.openpose_files import BODY25_ORDER, BODY25B_ORDER, openpose_name, person_table
 from tests.openpose_files import write_frame as write_openpose_frame
 

@@ -13,29 +13,27 @@ from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.systems.analysis import Simulator
 from pydrake.systems.sensors import ImageDepth32F
 
-from hsr_handover.perception.coco18 import COCO18_KEYPOINTS, FACE_KEYPOINTS
-from hsr_handover.perception.detector_model import DetectorModel, DetectorState
-from hsr_handover.perception.openpose_json import (
+from hsr_handover.interface.coco18 import COCO18_KEYPOINTS, FACE_KEYPOINTS, keypoint_index
+from hsr_handover.interface.keypoints import NOT_IN_VIEW, Detection
+from hsr_handover.interface.openpose_json import (
     read_openpose_frames,
     read_openpose_json,
     to_openpose_dict,
     write_openpose_json,
 )
-from hsr_handover.perception.pinhole import PinholeCamera
-from hsr_handover.perception.skeleton import (
+from hsr_handover.interface.pinhole import PinholeCamera
+from hsr_handover.robot.perception.skeleton import (
     NO_VALID_DEPTH,
-    NOT_IN_VIEW,
-    Detection,
     Skeleton,
-    detect_keypoints,
-    keypoint_index,
     lift_detection,
     lift_keypoints,
 )
+from hsr_handover.robot.systems.skeleton_lifter import SkeletonLifter
 from hsr_handover.scenario import load_scenario, object_center
 from hsr_handover.simulation import build_simulation
-from hsr_handover.systems.skeleton_lifter import SkeletonLifter
-from hsr_handover.systems.skeleton_sensor import RecordedSkeletonSource, SkeletonSensor
+from hsr_handover.world.sensors.detector_model import DetectorModel, DetectorState
+from hsr_handover.world.sensors.pose_detector import detect_keypoints
+from hsr_handover.world.systems.skeleton_sensor import RecordedSkeletonSource, SkeletonSensor
 from tests.conftest import SCENARIOS
 
 CAMERA = PinholeCamera.from_fov_x(320, 240, 1.05)

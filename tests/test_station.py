@@ -12,12 +12,12 @@ from pydrake.systems.analysis import Simulator
 from hsr_handover import interface
 from hsr_handover.experiments.seating import sit_clear
 from hsr_handover.hsr import COMMANDED_JOINTS, PALM_FRAME
-from hsr_handover.intent.rays import angle_deg
-from hsr_handover.robot import ready_command
+from hsr_handover.robot.builder import ready_command
+from hsr_handover.robot.intent.rays import angle_deg
 from hsr_handover.scenario import ImprecisionConfig, load_scenario, object_center
 from hsr_handover.simulation import build_simulation
-from hsr_handover.station import build_station, check_initial_clearance
-from hsr_handover.station.hsr_interface import command_matrix, measurement_matrices
+from hsr_handover.world.station import build_station, check_initial_clearance
+from hsr_handover.world.station.hsr_interface import command_matrix, measurement_matrices
 from tests.conftest import SCENARIOS
 
 

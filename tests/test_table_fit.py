@@ -10,16 +10,16 @@ import pytest
 from pydrake.perception import PointCloud
 from pydrake.systems.analysis import Simulator
 
-from hsr_handover.perception.cloud_map import Workspace
-from hsr_handover.perception.pinhole import PinholeCamera
-from hsr_handover.perception.table_fit import (
+from hsr_handover.interface.pinhole import PinholeCamera
+from hsr_handover.robot.perception.cloud_map import Workspace
+from hsr_handover.robot.perception.table_fit import (
     NO_POINTS,
     NO_TABLE,
     TableFitParams,
     TableMap,
     top_height,
 )
-from hsr_handover.systems.table_estimator import TableEstimator
+from hsr_handover.robot.systems.table_estimator import TableEstimator
 
 WORKSPACE = Workspace((0.0, -1.5, 0.05), (2.5, 1.5, 2.0))
 CENTER, SIZE, YAW, HEIGHT = np.array([1.2, 0.1]), np.array([1.2, 0.7]), 0.3, 0.74

@@ -5,8 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hsr_handover.perception.skeleton import keypoint_index
-from hsr_handover.perception.torso_depth import SHOULDER_DEPTH_TOLERANCE_M, torso_shoulder_depths
+from hsr_handover.interface.coco18 import keypoint_index
+from hsr_handover.robot.perception.torso_depth import (
+    SHOULDER_DEPTH_TOLERANCE_M,
+    torso_shoulder_depths,
+)
 
 NECK, RIGHT, LEFT = (keypoint_index(name) for name in ("neck", "r_shoulder", "l_shoulder"))
 DETECTED = np.ones(18, dtype=bool)

@@ -4,7 +4,7 @@ import math
 
 import pytest
 
-from hsr_handover.experiments.handover_scoring import DROPPED, LIFTED, TrialWatch
+from hsr_handover.experiments.handover.scoring import DROPPED, LIFTED, TrialWatch
 from hsr_handover.experiments.true_clearance import HAND, PERSON, ROBOT, TABLE
 
 START = {"cup": 0.77, "box": 0.78}

@@ -9,9 +9,9 @@ from pydrake.multibody.plant import MultibodyPlant
 
 from hsr_handover.experiments.true_clearance import TrueClearance
 from hsr_handover.hsr import add_hsr
-from hsr_handover.planning.timing import joint_limits
+from hsr_handover.robot.planning.timing import joint_limits
 from hsr_handover.scenario import load_scenario
-from hsr_handover.station import build_station
+from hsr_handover.world.station import build_station
 from tests.conftest import SCENARIOS
 
 

@@ -1,14 +1,14 @@
 """End to end on the staggered layout (a 0.80 m table, a 1.58 m person seated): from its lowest
 the robot's camera never saw this person's pointing arm over the objects, and the request went
-unrecognised (sessions 16-23). It now watches from a raised torso, its arm folded down, and
+unrecognised. It now watches from a raised torso, its arm folded down, and
 fetches the box and hands it over (about 40 s)."""
 
 from __future__ import annotations
 
 import math
 
-from hsr_handover.experiments.handover import run_handover_trial
-from hsr_handover.experiments.handover_trials import make_trials
+from hsr_handover.experiments.handover.trial import run_handover_trial
+from hsr_handover.experiments.handover.trials import make_trials
 from hsr_handover.scenario import load_scenario
 from tests.conftest import SCENARIOS
 

@@ -9,9 +9,9 @@ import pytest
 from pydrake.systems.analysis import Simulator
 
 from hsr_handover.hsr import COMMANDED_JOINTS
-from hsr_handover.perception.skeleton import Skeleton
-from hsr_handover.planning.perceived_scene import PerceivedScene
-from hsr_handover.systems.watching_posture import HEAD_ROWS, WatchingPosture
+from hsr_handover.robot.perception.skeleton import Skeleton
+from hsr_handover.robot.planning.perceived_scene import PerceivedScene
+from hsr_handover.robot.systems.watching_posture import HEAD_ROWS, WatchingPosture
 from tests.handover.test_watch_view import SHOULDERS, _objects, _skeleton
 
 N = len(COMMANDED_JOINTS)

@@ -10,10 +10,10 @@ from pydrake.systems.analysis import Simulator
 
 from hsr_handover import interface
 from hsr_handover.hsr import COMMANDED_JOINTS, PALM_FRAME
-from hsr_handover.robot import ready_command
+from hsr_handover.robot.builder import ready_command
 from hsr_handover.scenario import load_scenario
-from hsr_handover.station import build_station
-from hsr_handover.systems.wrist_force_sensor import WristForceSensor
+from hsr_handover.world.station import build_station
+from hsr_handover.world.systems.wrist_force_sensor import WristForceSensor
 from tests.conftest import SCENARIOS
 
 GRAVITY = 9.81

@@ -1,1 +1,2 @@
-"""Experiments of the paper (layer 3): batches and measurements over the station."""
+"""The paper's experiments, one sub-package each, and what they share: the trial runner, the
+generated layouts, the trial classes and the scoring against the world's truth."""

@@ -10,10 +10,10 @@ import dataclasses
 import math
 from collections.abc import Sequence
 
-from hsr_handover.human.body import BodyDimensions
-from hsr_handover.intent.rays import angle_deg
+from hsr_handover.robot.intent.rays import angle_deg
 from hsr_handover.scenario import Scenario, object_center
-from hsr_handover.station.world import person_actions, person_pose
+from hsr_handover.world.person.body import BodyDimensions
+from hsr_handover.world.station.world import person_actions, person_pose
 
 
 @dataclasses.dataclass(frozen=True)

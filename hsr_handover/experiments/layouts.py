@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hsr_handover.perception.object_colors import OBJECT_COLORS
+from hsr_handover.interface.object_colors import OBJECT_COLORS
 from hsr_handover.scenario import ObjectConfig, Scenario
 from hsr_handover.scenario.writing import write_scenario
 

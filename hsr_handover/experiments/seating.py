@@ -8,7 +8,7 @@ from __future__ import annotations
 import math
 
 from hsr_handover.scenario import Scenario
-from hsr_handover.station import build_station, initial_overlaps
+from hsr_handover.world.station import build_station, initial_overlaps
 
 BACK_BEYOND = 0.01  # m the person sits back beyond the overlap measured
 MOST_MOVES = 5  # tries before the run is left to fail with the scenario's own error

@@ -14,7 +14,7 @@ import numpy as np
 from pydrake.systems.framework import Context
 
 from hsr_handover.hsr import PALM_FRAME
-from hsr_handover.station.builder import Station
+from hsr_handover.world.station.builder import Station
 
 NEAR = 0.5  # m: distances beyond this are not computed
 ROBOT, TABLE, PERSON, HAND = "robot", "table", "person", "hand"

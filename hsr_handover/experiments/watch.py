@@ -9,11 +9,11 @@ from pydrake.geometry import Meshcat
 from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import Context
 
-from hsr_handover.effectivity.person_map import HumanArm, receiving_arms
-from hsr_handover.handover.look_round import LOOK_AROUND_PANS, LOOK_DWELL_S, LOOK_ROUND_TILT
 from hsr_handover.hsr import COMMANDED_JOINTS, HEAD_JOINTS
-from hsr_handover.perception.facing import steady_facing
-from hsr_handover.perception.skeleton import Skeleton
+from hsr_handover.robot.effectivity.person_map import HumanArm, receiving_arms
+from hsr_handover.robot.handover.look_round import LOOK_AROUND_PANS, LOOK_DWELL_S, LOOK_ROUND_TILT
+from hsr_handover.robot.perception.facing import steady_facing
+from hsr_handover.robot.perception.skeleton import Skeleton
 from hsr_handover.scenario import Scenario
 from hsr_handover.simulation import Simulation, prepare_simulation, start_replay
 
@@ -93,7 +93,7 @@ def _skeleton(simulation: Simulation, simulator: Simulator) -> Skeleton:
 
 
 def _look_around(simulation: Simulation, simulator: Simulator) -> tuple[Skeleton, ...]:
-    """A stand-in for the supervisor's look round (issue 10): the ready posture's head pan
+    """A stand-in for the supervisor's look round: the ready posture's head pan
     stepped through LOOK_AROUND_PANS with the head tilted to LOOK_ROUND_TILT, then back to
     where it was; the skeleton perceived at the end of each stop."""
     posture = simulation.robot.diagram.GetSubsystemByName("ready_posture")

@@ -1,4 +1,4 @@
-"""Forward kinematics of the HSR-B arm (DESIGN §4.1) in the robot's base frame, vectorised.
+"""Forward kinematics of the HSR-B arm (docs/design.md §4.1) in the robot's base frame, vectorised.
 
 The arm has five joints, in this order: arm_lift (prismatic +z), arm_flex (revolute about -y),
 arm_roll (revolute +z), wrist_flex (revolute about -y), wrist_roll (revolute +z). The palm frame

@@ -1,6 +1,6 @@
-"""The robot: what runs on the HSR, a Diagram joined to the station by ports only."""
+"""The robot: what runs on the HSR, a Diagram joined to the world only by ports.
 
-from hsr_handover.robot.builder import Robot, build_robot, ready_command
-from hsr_handover.robot.perception import PERCEPTION_OUTPUTS
-
-__all__ = ["PERCEPTION_OUTPUTS", "Robot", "build_robot", "ready_command"]
+`builder` builds the Diagram (`build_robot`); `perception_wiring` its perception part. The
+algorithms it runs are in `perception`, `intent`, `effectivity`, `planning` and `handover`; the
+Drake systems that run them in `systems`.
+"""

@@ -1,4 +1,4 @@
-"""Build the robot: what runs on the HSR, as a Diagram of its own (DESIGN §2).
+"""Build the robot: what runs on the HSR, as a Diagram of its own (docs/design.md §2).
 
 Its inputs are named after the station's sensor outputs and its outputs after the station's
 command inputs (`hsr_handover.interface`), so the two connect by name. It perceives (when
@@ -17,7 +17,6 @@ from pydrake.systems.framework import Diagram, DiagramBuilder, LeafSystem
 from pydrake.systems.primitives import ConstantVectorSource
 
 from hsr_handover import interface
-from hsr_handover.effectivity.arm_map import load_or_build
 from hsr_handover.hsr import (
     COMMANDED_JOINTS,
     FINGER_PER_OPENING,
@@ -25,13 +24,14 @@ from hsr_handover.hsr import (
     HEAD_JOINTS,
     head_limits,
 )
-from hsr_handover.perception.active_gaze import FieldOfView
-from hsr_handover.robot.perception import PERCEPTION_OUTPUTS, SensorInputs, add_perception
+from hsr_handover.robot.effectivity.arm_map import load_or_build
+from hsr_handover.robot.perception.active_gaze import FieldOfView
+from hsr_handover.robot.perception_wiring import PERCEPTION_OUTPUTS, SensorInputs, add_perception
+from hsr_handover.robot.systems.gaze_controller import GazeController
+from hsr_handover.robot.systems.handover_supervisor import HandoverSupervisor
+from hsr_handover.robot.systems.watching import WATCHING
+from hsr_handover.robot.systems.watching_posture import WatchingPosture
 from hsr_handover.scenario import Scenario, robot_start_positions
-from hsr_handover.systems.gaze_controller import GazeController
-from hsr_handover.systems.handover_supervisor import HandoverSupervisor
-from hsr_handover.systems.watching import WATCHING
-from hsr_handover.systems.watching_posture import WatchingPosture
 
 HANDOVER_OUTPUTS = ("cycle", "plan_view")  # the supervisor's, exported when handover is on
 GAZE_OUTPUTS = ("gaze",)  # the GazeController's, exported with perception.active_gaze

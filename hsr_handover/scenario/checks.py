@@ -37,13 +37,13 @@ from hsr_handover.hsr import (
     actuated_joint_names,
     add_hsr,
 )
-from hsr_handover.human.behavior import ACTIONS, REACHES
-from hsr_handover.perception.attention import FOCUS_KINDS
-from hsr_handover.perception.object_colors import OBJECT_COLORS
-from hsr_handover.perception.openpose_format import KEYPOINT_SCALES, MODEL_CHOICES
+from hsr_handover.interface.object_colors import OBJECT_COLORS
+from hsr_handover.interface.openpose_format import KEYPOINT_SCALES, MODEL_CHOICES
+from hsr_handover.robot.perception.attention import FOCUS_KINDS
 from hsr_handover.scenario.schema import LayoutsConfig, ObjectConfig, Scenario, ScenarioError
 from hsr_handover.scenario.typed_yaml import describe
-from hsr_handover.scene.object_models import OBJECT_SHAPES, object_height
+from hsr_handover.world.person.behavior import ACTIONS, REACHES
+from hsr_handover.world.scene.object_models import OBJECT_SHAPES, object_height
 
 GRIPPER_MAX_WIDTH = round(
     GRIPPER_MAX_OPENING - 0.017, 3

@@ -13,15 +13,15 @@ times in [0, 3600] s. Intervals are written as in maths: (0, 1] excludes 0 and i
 import dataclasses
 from dataclasses import field
 
-from hsr_handover.human.imprecision import Imprecision
-from hsr_handover.human.receiving import ReceivingParams
-from hsr_handover.intent import IntentParams
-from hsr_handover.perception.attention import DEFAULT_ATTENTION_WEIGHT
-from hsr_handover.perception.cloud_map import SCENE_GNG_PARAMS, SIGNALS_PER_FRAME
-from hsr_handover.perception.detector_model import PRESETS, DetectorModel
-from hsr_handover.perception.openpose_format import DEFAULT_KEYPOINT_SCALE, DEFAULT_MODEL
-from hsr_handover.perception.pinhole import PinholeCamera
+from hsr_handover.interface.openpose_format import DEFAULT_KEYPOINT_SCALE, DEFAULT_MODEL
+from hsr_handover.interface.pinhole import PinholeCamera
+from hsr_handover.robot.intent import IntentParams
+from hsr_handover.robot.perception.attention import DEFAULT_ATTENTION_WEIGHT
+from hsr_handover.robot.perception.cloud_map import SCENE_GNG_PARAMS, SIGNALS_PER_FRAME
 from hsr_handover.scenario.typed_yaml import YAML_KEY, shorten
+from hsr_handover.world.person.imprecision import Imprecision
+from hsr_handover.world.person.receiving import ReceivingParams
+from hsr_handover.world.sensors.detector_model import PRESETS, DetectorModel
 
 MAX_KEY_PATH = 60
 MAX_EXPECTED = 140
@@ -128,7 +128,7 @@ class ActionConfig:
 @dataclasses.dataclass
 class ImprecisionConfig:
     """How imprecisely the simulated person points and looks, drawn from the run's seed
-    (`hsr_handover.human.imprecision`): each pointing gesture misses the shoulder-to-target ray
+    (`world.person.imprecision`): each pointing gesture misses the shoulder-to-target ray
     by `pointing_error_deg` on average (Breuer et al. 2010: 7.3 deg); the head makes
     `head_turn_fraction` of a gaze shift on average (Stiefelhagen and Zhu 2002: 0.689), varying
     between people by `head_turn_fraction_sd`. Zero error and a fraction of 1 give an exact person.
@@ -248,8 +248,8 @@ class CameraConfig:
 
 @dataclasses.dataclass
 class GngConfig:
-    """The scene map's adaptive Growing Neural Gas (paper §3.1 names; DESIGN §3.1). The defaults
-    are the adaptive settings that reach the paper's ~4x node density under attention.
+    """The scene map's adaptive Growing Neural Gas (paper §3.1 names; docs/design.md §3.1). The
+    defaults are the adaptive settings that reach the paper's ~4x node density under attention.
 
     Ranges: max_nodes an integer in [3, 5000]; lam and a_max integers in [1, 1e6]; mu1 and mu2
     in (0, 1]; mu3 in [0, 1e6] 1/m; alpha and beta in [0, 1); e_min in [0, 1e6] m^2."""
@@ -300,7 +300,7 @@ class SkeletonRecordingConfig:
 
 @dataclasses.dataclass
 class DetectorConfig:
-    """The simulated pose detector (`hsr_handover.perception.detector_model`, where the figures
+    """The simulated pose detector (`hsr_handover.world.sensors.detector_model`, where the figures
     come from): `preset` "realistic" (OpenPose's measured errors: a persistent bias and frame
     jitter, misses in runs, swapped arms, a wrist on an object) or "ideal" (2 px of independent
     jitter at 640 x 480 and face points dropped in a tenth of frames, nothing else); any of
@@ -352,7 +352,7 @@ class PerceptionConfig:
     measured errors unless told otherwise); with `skeleton_recording`, it plays a recording
     of OpenPose's output instead (SkeletonRecordingConfig). With `active_gaze` the robot turns
     its head to find the person and keep their face, hands and the objects in view
-    (`hsr_handover.perception.active_gaze`); off, the head holds the start posture (the
+    (`hsr_handover.robot.perception.active_gaze`); off, the head holds the start posture (the
     baseline the active gaze is measured against).
 
     Ranges: cloud_size integers each in [8, 1024] px; workspace each in [-20, 20] m, each lower
@@ -385,8 +385,8 @@ class IntentConfig:
     slower than `steady_deg_s`; an arm that reads bent for no longer than `bent_gap_s` goes on
     pointing; `gaze_weight` weighs the eyes against the arm between objects both allow; with
     `track_keypoints`, each keypoint is followed over time first (smoothed, outliers and
-    swapped arms rejected, short misses bridged: `hsr_handover.perception.keypoint_filter`).
-    The meaning and the measured defaults: `hsr_handover.intent.IntentParams`.
+    swapped arms rejected, short misses bridged: `hsr_handover.robot.perception.keypoint_filter`).
+    The meaning and the measured defaults: `hsr_handover.robot.intent.IntentParams`.
 
     Ranges: straight_arm_deg in (90, 180] deg; d_min in (0, 2] m; gaze_tolerance_deg and
     gaze_pitch_tolerance_deg in (0, 90] deg; gaze_pitch_tolerance_share in [0, 1];
@@ -417,7 +417,7 @@ class IntentConfig:
 
 @dataclasses.dataclass
 class HandoverConfig:
-    """The perceiving-acting cycle (issue 10): with `enabled`, the robot watches (its head
+    """The perceiving-acting cycle: with `enabled`, the robot watches (its head
     looks round the table first), and once it recognises the object asked for it grasps it,
     lifts it, carries it to the handover point and waits for the person's hand, releasing
     when the hand holds it. It needs `perception.enabled`."""
@@ -433,8 +433,7 @@ class SimulationConfig:
     Ranges: duration in (0, 3600] s; time_step in [1e-4, 0.01] s (below, a run of minutes
     takes days; above, contact is not stable); seed an integer in [0, 2**32 - 1]; replay_fps
     in (0, 120] Hz. The 3 ms step: the handover reference (64 trials) and the three layouts
-    gave the same outcomes as at 2 ms, 1.14 times faster (session 23); 4 ms let a held object
-    slip (session 10)."""
+    give the same outcomes as at 2 ms, 1.14 times faster; at 4 ms a held object slips."""
 
     duration: float = 5.0
     time_step: float = 0.003

@@ -1,1 +1,2 @@
-"""Drake LeafSystems (layer 2): each declares its ports and state and calls a layer-1 algorithm."""
+"""Drake plumbing both sides share: frame timing, required inputs, contact pairs and the check
+of abstract connections."""

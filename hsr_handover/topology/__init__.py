@@ -1,7 +1,8 @@
 """Topological maps of the perceiving-acting cycle (paper 3.1): numpy + numba, no Drake.
 
-- ``GrowingNeuralGas``: adaptive GNG over point clouds (perception), DESIGN 3.1.
-- ``GrowingCellStructures``: simplicial maps with joint-vector payloads (action), DESIGN 3.2.
+- ``GrowingNeuralGas``: adaptive GNG over point clouds (perception), docs/design.md §3.1.
+- ``GrowingCellStructures``: simplicial maps with joint-vector payloads (action),
+  docs/design.md §3.2.
 - ``metrics``: quantisation, squared and topographic error, node density.
 """
 

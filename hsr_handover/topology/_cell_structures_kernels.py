@@ -1,4 +1,4 @@
-"""Numba training loop of Growing Cell Structures (paper 3.1, DESIGN 3.2).
+"""Numba training loop of Growing Cell Structures (paper 3.1, docs/design.md §3.2).
 
 Payloads (joint vectors) travel with nodes: ``payload[i]`` is the payload of the training
 sample at ``payload_x[i]``, the closest sample node i has won so far. Payloads are copied,
@@ -53,7 +53,8 @@ def _insert_in_simplices(positions, errors, neighbours, ages, degree, counters, 
     """Steps 5 i-vi with r linked to q, f and every common neighbour of q and f.
 
     Splitting edge q-f this way splits every simplex on that edge in two, so the complex stays
-    made of k-simplices (DESIGN 3.2). Returns (q, f, r), or (-1, -1, -1) when q is isolated.
+    made of k-simplices (docs/design.md §3.2). Returns (q, f, r), or (-1, -1, -1) when q is
+    isolated.
     """
     q, f = largest_error_pair(errors, neighbours, degree, counters[N_NODES])
     if q < 0:

@@ -47,7 +47,7 @@ def squared_distances(positions, n, p, out):
 def nearest_two(positions, n, p, dist):
     """Indices and squared distances of the nearest and second-nearest node to p.
 
-    The paper's eqs. 1, 12, 13 print argmax; the winner is the argmin (DESIGN 3.1).
+    The paper's eqs. 1, 12, 13 print argmax; the winner is the argmin (docs/design.md §3.1).
     """
     if positions.shape[0] == 3:  # one fused pass for point clouds and gripper positions
         p0, p1, p2 = p[0], p[1], p[2]

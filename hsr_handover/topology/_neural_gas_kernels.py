@@ -1,4 +1,4 @@
-"""Numba training loop of the adaptive Growing Neural Gas (paper 3.1, DESIGN 3.1)."""
+"""Numba training loop of the adaptive Growing Neural Gas (paper 3.1, docs/design.md §3.1)."""
 
 from __future__ import annotations
 

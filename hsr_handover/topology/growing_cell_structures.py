@@ -1,4 +1,5 @@
-"""Growing Cell Structures with joint-vector payloads (paper 3.1, Fritzke 1991; DESIGN 3.2)."""
+"""Growing Cell Structures with joint-vector payloads (paper 3.1, Fritzke 1991;
+docs/design.md §3.2)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Adaptive Growing Neural Gas (paper 3.1 with its errata, DESIGN 3.1)."""
+"""Adaptive Growing Neural Gas (paper 3.1 with its errata, docs/design.md §3.1)."""
 
 from __future__ import annotations
 

@@ -7,8 +7,8 @@ import dataclasses
 import numpy as np
 import pytest
 
-from hsr_handover.effectivity import ArmEffectivity, ArmMapParams, arm_map, load_or_build
 from hsr_handover.kinematics.hsr_arm import ARM_LOWER, ARM_UPPER, palm_position, sample_arm_joints
+from hsr_handover.robot.effectivity import ArmEffectivity, ArmMapParams, arm_map, load_or_build
 
 SMALL = ArmMapParams(max_nodes=120, samples=6_000, signals=20_000)
 

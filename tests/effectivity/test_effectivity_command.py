@@ -1,4 +1,4 @@
-"""`hsr-handover effectivity` end to end (issue 9, part 3): figs. 8 and 14 from what the robot
+"""`hsr-handover effectivity` end to end: figs. 8 and 14 from what the robot
 perceives of a bundled scene."""
 
 from __future__ import annotations

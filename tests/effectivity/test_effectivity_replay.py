@@ -5,14 +5,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hsr_handover.effectivity.person_map import HumanArm, PersonEffectivity
-from hsr_handover.experiments.effectivity_replay import (
+from hsr_handover.experiments.effectivity.replay import (
     EFFECTIVITY,
     draw_effectivity,
     effectivity_layers,
 )
-from hsr_handover.planning.handover_pose import HandoverPose
-from hsr_handover.replay import make_local_meshcat
+from hsr_handover.replay.meshcat_replay import make_local_meshcat
+from hsr_handover.robot.effectivity.person_map import HumanArm, PersonEffectivity
+from hsr_handover.robot.planning.handover_pose import HandoverPose
 
 FACING_MINUS_X = np.column_stack([[-1.0, 0, 0], [0, -1.0, 0], [0, 0, 1.0]])
 

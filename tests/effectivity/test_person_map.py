@@ -1,4 +1,4 @@
-"""The person's effectivity and the mutual area (issue 9, parts 2-3; layer 1, no Drake)."""
+"""The person's effectivity and the mutual area (no Drake)."""
 
 from __future__ import annotations
 
@@ -7,7 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from hsr_handover.effectivity.mutual_area import (
+from hsr_handover.interface.coco18 import NUM_KEYPOINTS, keypoint_index
+from hsr_handover.robot.effectivity.mutual_area import (
     ABOVE_TABLE,
     COMFORT_REACH,
     MOST_REACH,
@@ -16,7 +17,7 @@ from hsr_handover.effectivity.mutual_area import (
     handover_point,
     ideal_handover_point,
 )
-from hsr_handover.effectivity.person_map import (
+from hsr_handover.robot.effectivity.person_map import (
     HAND_PER_HEIGHT,
     PALM_SHARE,
     SHOULDER_DEPTH,
@@ -27,7 +28,6 @@ from hsr_handover.effectivity.person_map import (
     perceived_arm,
     sample_angles,
 )
-from hsr_handover.perception.coco18 import NUM_KEYPOINTS, keypoint_index
 
 # A person at x = 1.75 facing the robot (-x): their left is the world's -y.
 FACING_MINUS_X = np.column_stack([[-1.0, 0, 0], [0, -1.0, 0], [0, 0, 1.0]])

@@ -6,14 +6,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hsr_handover.effectivity.person_map import (
+from hsr_handover.interface.coco18 import keypoint_index
+from hsr_handover.robot.effectivity.person_map import (
     FOREARM_PER_HEIGHT,
     SHOULDER_DEPTH,
     SHOULDER_WIDTH_PER_HEIGHT,
     receiving_arms,
 )
-from hsr_handover.perception.coco18 import keypoint_index
-from hsr_handover.perception.skeleton import Skeleton
+from hsr_handover.robot.perception.skeleton import Skeleton
 from tests.intent.synthetic_person import keypoints
 
 

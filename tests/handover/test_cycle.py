@@ -8,7 +8,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from hsr_handover.handover.cycle import (
+from hsr_handover.robot.handover.cycle import (
     CLOSED,
     COMING,
     EMPTY_S,
@@ -510,10 +510,9 @@ def test_fingers_closing_with_no_hand_at_the_object_lately_is_a_drop():
 
 
 def test_fingers_emptied_by_a_pull_across_with_the_hand_and_object_unseen_is_a_handover():
-    """The standing layout's trial 5 of seed 2: a hand the robot's arm hid closed on the cup and
-    drew it out with 9 N across, 63 degrees off the person (no tug), the object out of the
-    camera's view; the reference run's trial 57 (session 17) yanked it out across and up within
-    one decision. The robot lets go rather than calling it dropped."""
+    """A hand the robot's arm hides closes on the cup and draws it out with 9 N across, 63
+    degrees off the person (no tug), the object out of the camera's view, or yanks it out across
+    and up within one decision. The robot lets go rather than calling it dropped."""
     world = _presenting()
     across = np.cross(_toward_person(world, 1.0), [0.0, 0.0, 1.0])
     world.wrist_force = np.array([0.0, 0.0, -WEIGHT]) + 3 * TUG * across

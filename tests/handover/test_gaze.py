@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hsr_handover.handover.gaze import look_at
 from hsr_handover.hsr import CAMERA_FRAME
-from hsr_handover.planning.perceived_scene import PerceivedScene
-from hsr_handover.planning.planning_scene import PlanningScene
+from hsr_handover.robot.handover.gaze import look_at
+from hsr_handover.robot.planning.perceived_scene import PerceivedScene
+from hsr_handover.robot.planning.planning_scene import PlanningScene
 
 
 @pytest.fixture(scope="module")

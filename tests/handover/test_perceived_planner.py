@@ -5,11 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hsr_handover.effectivity.arm_map import load_or_build
-from hsr_handover.effectivity.person_map import HumanArm
-from hsr_handover.handover.perceived_planner import PerceivedPlanner
 from hsr_handover.hsr import BASE_JOINTS
-from hsr_handover.planning.perceived_scene import Capsule, PerceivedScene
+from hsr_handover.robot.effectivity.arm_map import load_or_build
+from hsr_handover.robot.effectivity.person_map import HumanArm
+from hsr_handover.robot.handover.perceived_planner import PerceivedPlanner
+from hsr_handover.robot.planning.perceived_scene import Capsule, PerceivedScene
 
 
 @pytest.fixture(scope="module")

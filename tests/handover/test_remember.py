@@ -7,12 +7,12 @@ import dataclasses
 import numpy as np
 from pydrake.math import RigidTransform, RollPitchYaw
 
-from hsr_handover.handover.scene_memory import ARM_MEMORY_S, STILL_M, remember
-from hsr_handover.perception.depth_view import DepthView
-from hsr_handover.perception.object_shapes import BOX, CYLINDER, ObjectShape
-from hsr_handover.perception.pinhole import PinholeCamera
-from hsr_handover.perception.table_fit import TableEstimate
-from hsr_handover.planning.perceived_scene import BODY_PART, Capsule, PerceivedScene
+from hsr_handover.interface.pinhole import PinholeCamera
+from hsr_handover.robot.handover.scene_memory import ARM_MEMORY_S, STILL_M, remember
+from hsr_handover.robot.perception.depth_view import DepthView
+from hsr_handover.robot.perception.object_shapes import BOX, CYLINDER, ObjectShape
+from hsr_handover.robot.perception.table_fit import TableEstimate
+from hsr_handover.robot.planning.perceived_scene import BODY_PART, Capsule, PerceivedScene
 
 TABLE = TableEstimate(0.72, np.array([0.85, 0.0]), np.array([0.6, 1.0]), 0.0, 5000)
 

@@ -7,23 +7,23 @@ import numpy as np
 import pytest
 from pydrake.systems.analysis import Simulator
 
-from hsr_handover.effectivity.arm_map import load_or_build
-from hsr_handover.effectivity.person_map import SHOULDER_DEPTH, receiving_arms
-from hsr_handover.handover.cycle import PATIENCE_S, SEEK_S, Failure, Phase
-from hsr_handover.handover.look_round import (
+from hsr_handover.hsr import COMMANDED_JOINTS
+from hsr_handover.interface.coco18 import keypoint_index
+from hsr_handover.robot.effectivity.arm_map import load_or_build
+from hsr_handover.robot.effectivity.person_map import SHOULDER_DEPTH, receiving_arms
+from hsr_handover.robot.handover.cycle import PATIENCE_S, SEEK_S, Failure, Phase
+from hsr_handover.robot.handover.look_round import (
     LOOK_AROUND_PANS,
     LOOK_DWELL_S,
     LOOK_ROUND_S,
     LOOK_ROUND_TILT,
 )
-from hsr_handover.hsr import COMMANDED_JOINTS
-from hsr_handover.intent import IntentParams, IntentState
-from hsr_handover.perception.coco18 import keypoint_index
-from hsr_handover.perception.object_detection import Detection, DetectionResult
-from hsr_handover.perception.object_shapes import BOX, ObjectShape
-from hsr_handover.perception.skeleton import Skeleton
-from hsr_handover.planning.perceived_scene import PerceivedScene
-from hsr_handover.systems.handover_supervisor import (
+from hsr_handover.robot.intent import IntentParams, IntentState
+from hsr_handover.robot.perception.object_detection import Detection, DetectionResult
+from hsr_handover.robot.perception.object_shapes import BOX, ObjectShape
+from hsr_handover.robot.perception.skeleton import Skeleton
+from hsr_handover.robot.planning.perceived_scene import PerceivedScene
+from hsr_handover.robot.systems.handover_supervisor import (
     VIEW_AFTER_S,
     HandoverSupervisor,
     _face,

@@ -6,7 +6,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hsr_handover.handover.watch_view import (
+from hsr_handover.hsr import CAMERA_FRAME, TORSO_JOINT
+from hsr_handover.interface.coco18 import keypoint_index
+from hsr_handover.interface.pinhole import PinholeCamera
+from hsr_handover.robot.handover.watch_view import (
     EYES_OVER_SHOULDERS,
     FLEX,
     LEAST_RISE,
@@ -19,13 +22,10 @@ from hsr_handover.handover.watch_view import (
     watch_posture,
     weigh_now,
 )
-from hsr_handover.hsr import CAMERA_FRAME, TORSO_JOINT
-from hsr_handover.perception.coco18 import keypoint_index
-from hsr_handover.perception.object_shapes import BOX, CYLINDER, ObjectShape
-from hsr_handover.perception.pinhole import PinholeCamera
-from hsr_handover.perception.torso_depth import seen_shoulders
-from hsr_handover.planning.perceived_scene import PerceivedScene, behind
-from hsr_handover.planning.planning_scene import PlanningScene
+from hsr_handover.robot.perception.object_shapes import BOX, CYLINDER, ObjectShape
+from hsr_handover.robot.perception.torso_depth import seen_shoulders
+from hsr_handover.robot.planning.perceived_scene import PerceivedScene, behind
+from hsr_handover.robot.planning.planning_scene import PlanningScene
 
 SHOULDERS = [np.array([1.74, -0.03, 0.99]), np.array([1.66, -0.36, 0.99])]  # 1.58 m, seated
 TALLER = [shoulder + [0.0, 0.0, 0.04] for shoulder in SHOULDERS]  # 1.70 m, seated

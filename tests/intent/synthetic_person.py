@@ -7,11 +7,11 @@ import math
 
 import numpy as np
 
-from hsr_handover.human.aiming import arm_points, pointing_arm_angles, rot_z
-from hsr_handover.human.behavior import aim_head, head_rotation
-from hsr_handover.human.body import BodyDimensions
+from hsr_handover.interface.coco18 import COCO18_KEYPOINTS
 from hsr_handover.literature import STIEFELHAGEN_HEAD_FRACTION
-from hsr_handover.perception.coco18 import COCO18_KEYPOINTS
+from hsr_handover.world.person.aiming import arm_points, pointing_arm_angles, rot_z
+from hsr_handover.world.person.behavior import aim_head, head_rotation
+from hsr_handover.world.person.body import BodyDimensions
 
 BODY = BodyDimensions.from_height(1.70, seated=True)
 PERSON_AT, PERSON_YAW = np.array([1.75, 0.0, 0.0]), math.pi  # facing the robot (-x)

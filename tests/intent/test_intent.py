@@ -9,16 +9,15 @@ import math
 import numpy as np
 import pytest
 
-from hsr_handover.human.aiming import pointing_arm_angles
-from hsr_handover.human.behavior import reaching_arm_angles
-from hsr_handover.intent import IntentParams, IntentTracker, Ray, elbow_angle_deg, face_normal
-from hsr_handover.intent.rays import (
+from hsr_handover.interface.coco18 import keypoint_index
+from hsr_handover.robot.intent import IntentParams, IntentTracker, Ray, elbow_angle_deg, face_normal
+from hsr_handover.robot.intent.rays import (
     heading_elevation,
     ray_distances,
     tilt_down,
     unit_direction,
 )
-from hsr_handover.intent.tracker import (
+from hsr_handover.robot.intent.tracker import (
     ARM_MOVING,
     GAZE_ELSEWHERE,
     L_EYE,
@@ -41,7 +40,8 @@ from hsr_handover.intent.tracker import (
     pitch_tolerance_deg,
     torso_forward,
 )
-from hsr_handover.perception.coco18 import keypoint_index
+from hsr_handover.world.person.aiming import pointing_arm_angles
+from hsr_handover.world.person.behavior import reaching_arm_angles
 from tests.intent.synthetic_person import BODY, CUPS, TRUE_FACE_TILT, keypoints, to_person
 
 

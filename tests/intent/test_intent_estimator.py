@@ -10,12 +10,12 @@ import numpy as np
 import pytest
 from pydrake.systems.analysis import Simulator
 
-from hsr_handover.intent import IntentParams
-from hsr_handover.intent.tracker import ARM_MOVING
-from hsr_handover.perception.cross_check import DetectionSupport
-from hsr_handover.perception.object_detection import Detection, DetectionResult
-from hsr_handover.perception.skeleton import Skeleton
-from hsr_handover.systems.intent_estimator import IntentEstimator
+from hsr_handover.robot.intent import IntentParams
+from hsr_handover.robot.intent.tracker import ARM_MOVING
+from hsr_handover.robot.perception.cross_check import DetectionSupport
+from hsr_handover.robot.perception.object_detection import Detection, DetectionResult
+from hsr_handover.robot.perception.skeleton import Skeleton
+from hsr_handover.robot.systems.intent_estimator import IntentEstimator
 from tests.intent.synthetic_person import CUPS, keypoints
 
 

@@ -11,7 +11,7 @@ from pydrake.multibody.parsing import Parser
 from pydrake.multibody.plant import MultibodyPlant
 
 from hsr_handover.hsr import add_hsr
-from hsr_handover.planning.timing import JointLimits, joint_limits
+from hsr_handover.robot.planning.timing import JointLimits, joint_limits
 
 
 @pytest.fixture(scope="module")

@@ -1,4 +1,4 @@
-"""A path that closes the hand on an obstacle (a grasp's approach, issue 10) may touch it only
+"""A path that closes the hand on an obstacle (a grasp's approach) may touch it only
 as its goal does: ignored outright, an approach that the optimiser bent round a neighbour swept
 a pad 3 cm into the box it was going to grasp and knocked it over (the standing layout's
 trial 1, seed 2)."""
@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 
 from hsr_handover.hsr import BASE_JOINTS
-from hsr_handover.perception.object_shapes import CYLINDER, ObjectShape
-from hsr_handover.planning.perceived_scene import PerceivedScene
-from hsr_handover.planning.planner import DIP_ALLOWANCE, _path
-from hsr_handover.planning.planning_scene import PlanningScene
-from hsr_handover.planning.trajectory import (
+from hsr_handover.robot.perception.object_shapes import CYLINDER, ObjectShape
+from hsr_handover.robot.planning.perceived_scene import PerceivedScene
+from hsr_handover.robot.planning.planner import DIP_ALLOWANCE, _path
+from hsr_handover.robot.planning.planning_scene import PlanningScene
+from hsr_handover.robot.planning.trajectory import (
     COLLISION_BOUND,
     ESCAPE_SLACK,
     Target,

@@ -1,5 +1,5 @@
-"""Inverse kinematics, paths and the handover pose against a perceived scene (issue 9, parts
-3, 5-7): the bundled table with three cups 22 cm apart and a person seated across it."""
+"""Inverse kinematics, paths and the handover pose against a perceived scene: the bundled table
+with three cups 22 cm apart and a person seated across it."""
 
 from __future__ import annotations
 
@@ -8,26 +8,26 @@ import dataclasses
 import numpy as np
 import pytest
 
-from hsr_handover.effectivity import mutual_area
-from hsr_handover.effectivity.arm_map import load_or_build
-from hsr_handover.effectivity.mutual_area import ABOVE_TABLE
-from hsr_handover.effectivity.person_map import HumanArm, PersonEffectivity
 from hsr_handover.hsr import BASE_JOINTS, FINGER_PER_OPENING, GRIPPER_JOINT, PALM_FRAME
-from hsr_handover.perception.object_shapes import BOX, CYLINDER, ObjectShape
-from hsr_handover.perception.table_fit import TableEstimate
-from hsr_handover.planning import base_placement, grasps, handover_pose, planner
-from hsr_handover.planning import grasp_configurations as configurations
-from hsr_handover.planning.grasp_configurations import UNREACHABLE, grasp_configurations
-from hsr_handover.planning.grasps import GRIP_CLEARANCE, LIFT_HEIGHT, PAD_OFFSET
-from hsr_handover.planning.handover_pose import NO_MUTUAL_AREA, plan_handover_pose
-from hsr_handover.planning.inverse_kinematics import (
+from hsr_handover.robot.effectivity import mutual_area
+from hsr_handover.robot.effectivity.arm_map import load_or_build
+from hsr_handover.robot.effectivity.mutual_area import ABOVE_TABLE
+from hsr_handover.robot.effectivity.person_map import HumanArm, PersonEffectivity
+from hsr_handover.robot.perception.object_shapes import BOX, CYLINDER, ObjectShape
+from hsr_handover.robot.perception.table_fit import TableEstimate
+from hsr_handover.robot.planning import base_placement, grasps, handover_pose, planner
+from hsr_handover.robot.planning import grasp_configurations as configurations
+from hsr_handover.robot.planning.grasp_configurations import UNREACHABLE, grasp_configurations
+from hsr_handover.robot.planning.grasps import GRIP_CLEARANCE, LIFT_HEIGHT, PAD_OFFSET
+from hsr_handover.robot.planning.handover_pose import NO_MUTUAL_AREA, plan_handover_pose
+from hsr_handover.robot.planning.inverse_kinematics import (
     MIN_DISTANCE,
     IkResult,
     PalmGoal,
     solve_palm_ik,
 )
-from hsr_handover.planning.perceived_scene import Capsule, PerceivedScene
-from hsr_handover.planning.planner import (
+from hsr_handover.robot.planning.perceived_scene import Capsule, PerceivedScene
+from hsr_handover.robot.planning.planner import (
     BACK_OFF,
     DIP_ALLOWANCE,
     LOWER,
@@ -40,9 +40,9 @@ from hsr_handover.planning.planner import (
     plan_put_back,
     timed_clearance,
 )
-from hsr_handover.planning.planning_scene import PlanningScene
-from hsr_handover.planning.timing import joint_limits
-from hsr_handover.planning.trajectory import (
+from hsr_handover.robot.planning.planning_scene import PlanningScene
+from hsr_handover.robot.planning.timing import joint_limits
+from hsr_handover.robot.planning.trajectory import (
     COLLISION_BOUND,
     ESCAPE_SLACK,
     STOWED,
@@ -226,7 +226,7 @@ def test_an_ik_failing_from_the_aims_placement_is_tried_from_the_points_own(
     scene, arm_map, monkeypatch
 ):
     """The mutual node nearest the aim can lie 10 cm from it; seeded for the aim, the solver
-    may run out of iterations short of the node (the demo, session 22). The pose is then
+    may run out of iterations short of the node (as in the demo). The pose is then
     sought from a base placed for the node itself, before any aim turned to the side."""
     shoulder = np.array([1.75, 0.19, 1.03])
     frame = np.column_stack([[-1.0, 0, 0], [0, -1.0, 0], [0, 0, 1.0]])

@@ -9,9 +9,9 @@ import pytest
 
 from hsr_handover.hsr import GRIPPER_MAX_OPENING
 from hsr_handover.kinematics import hsr_arm
-from hsr_handover.perception.object_shapes import BOX, CYLINDER, ObjectShape
-from hsr_handover.planning.base_placement import base_pose, hand_posture
-from hsr_handover.planning.grasps import MIN_GRIP_HEIGHT, PREGRASP_STANDOFF, grasp_candidates
+from hsr_handover.robot.perception.object_shapes import BOX, CYLINDER, ObjectShape
+from hsr_handover.robot.planning.base_placement import base_pose, hand_posture
+from hsr_handover.robot.planning.grasps import MIN_GRIP_HEIGHT, PREGRASP_STANDOFF, grasp_candidates
 
 TABLE_TOP = 0.72
 

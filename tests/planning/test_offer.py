@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from hsr_handover.perception.object_shapes import CYLINDER, ObjectShape
-from hsr_handover.planning.inverse_kinematics import MIN_DISTANCE
-from hsr_handover.planning.offer import (
+from hsr_handover.robot.perception.object_shapes import CYLINDER, ObjectShape
+from hsr_handover.robot.planning.inverse_kinematics import MIN_DISTANCE
+from hsr_handover.robot.planning.offer import (
     FINGERS_EXTENT,
     OFFER_OFFSETS,
     OFFER_SEARCH,
@@ -14,7 +14,7 @@ from hsr_handover.planning.offer import (
     object_extent,
     offer_points,
 )
-from hsr_handover.planning.perceived_scene import Capsule
+from hsr_handover.robot.planning.perceived_scene import Capsule
 
 AIM = np.array([1.2, 0.2, 0.9])
 CUP = ObjectShape("blue", CYLINDER, np.array([1.2, 0.2]), np.array([0.08, 0.08]), 0.0, 0.72, 0.09)

@@ -9,10 +9,10 @@ import math
 import numpy as np
 import pytest
 
-from hsr_handover.perception.coco18 import NUM_KEYPOINTS, keypoint_index
-from hsr_handover.perception.object_shapes import BOX, CYLINDER, MIN_POINTS, fit_shape
-from hsr_handover.perception.table_fit import TableEstimate
-from hsr_handover.planning.perceived_scene import (
+from hsr_handover.interface.coco18 import NUM_KEYPOINTS, keypoint_index
+from hsr_handover.robot.perception.object_shapes import BOX, CYLINDER, MIN_POINTS, fit_shape
+from hsr_handover.robot.perception.table_fit import TableEstimate
+from hsr_handover.robot.planning.perceived_scene import (
     BODY_COLUMN_RADIUS,
     BONES,
     HAND_LENGTH,

@@ -10,12 +10,12 @@ import pytest
 from pydrake.math import RigidTransform, RotationMatrix
 from pydrake.systems.sensors import ImageDepth32F
 
-from hsr_handover.perception.object_detection import Detection, DetectionResult
-from hsr_handover.perception.object_shapes import BOX
-from hsr_handover.perception.pinhole import PinholeCamera
-from hsr_handover.perception.skeleton import Skeleton
-from hsr_handover.perception.table_fit import TableEstimate, TableReport
-from hsr_handover.systems.perceived_scene_estimator import PerceivedSceneEstimator
+from hsr_handover.interface.pinhole import PinholeCamera
+from hsr_handover.robot.perception.object_detection import Detection, DetectionResult
+from hsr_handover.robot.perception.object_shapes import BOX
+from hsr_handover.robot.perception.skeleton import Skeleton
+from hsr_handover.robot.perception.table_fit import TableEstimate, TableReport
+from hsr_handover.robot.systems.perceived_scene_estimator import PerceivedSceneEstimator
 from tests.planning.test_perceived_scene import _skeleton
 
 CAMERA = PinholeCamera.from_fov_x(64, 48, 1.0)

@@ -1,4 +1,4 @@
-"""The planning scene (issue 9, part 4): a plant of its own built from a PerceivedScene."""
+"""The planning scene: a plant of its own built from a PerceivedScene."""
 
 from __future__ import annotations
 
@@ -7,10 +7,10 @@ import dataclasses
 import numpy as np
 import pytest
 
-from hsr_handover.perception.object_shapes import CYLINDER, ObjectShape
-from hsr_handover.perception.table_fit import TableEstimate
-from hsr_handover.planning.perceived_scene import Capsule, PerceivedScene
-from hsr_handover.planning.planning_scene import (
+from hsr_handover.robot.perception.object_shapes import CYLINDER, ObjectShape
+from hsr_handover.robot.perception.table_fit import TableEstimate
+from hsr_handover.robot.planning.perceived_scene import Capsule, PerceivedScene
+from hsr_handover.robot.planning.planning_scene import (
     HELD,
     HELD_MARGIN,
     HELD_SPREAD,

@@ -1,4 +1,4 @@
-"""Re-targeting from a moving state with ruckig (issue 9, part 7)."""
+"""Re-targeting from a moving state with ruckig."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from hsr_handover.planning.retarget import JERK_PER_ACCELERATION, retarget
+from hsr_handover.robot.planning.retarget import JERK_PER_ACCELERATION, retarget
 from tests.planning.conftest import configuration
 
 STEP = 0.01  # s between the samples the limits are checked on

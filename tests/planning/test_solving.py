@@ -3,7 +3,7 @@
 import numpy as np
 from pydrake.solvers import MathematicalProgram, SolutionResult
 
-from hsr_handover.planning import solving
+from hsr_handover.robot.planning import solving
 
 
 def _rosenbrock() -> tuple[MathematicalProgram, np.ndarray]:

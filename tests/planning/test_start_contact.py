@@ -1,7 +1,7 @@
-"""A path from a start already nearer than the bound (issue 9, part 7): only the obstacles the
-start touches may stay that near over the path's first stretch; every other keeps the bound.
-(Session 13: a carry starting inside the held box's second detection passed it 7 cm through a
-neighbouring cup under one allowance for all.)"""
+"""A path from a start already nearer than the bound: only the obstacles the
+start touches may stay that near over the path's first stretch; every other keeps the bound
+(a carry starting inside the held box's second detection would pass it 7 cm through a
+neighbouring cup under one allowance for all)."""
 
 from __future__ import annotations
 
@@ -9,12 +9,12 @@ import numpy as np
 import pytest
 
 from hsr_handover.hsr import BASE_JOINTS
-from hsr_handover.perception.object_shapes import CYLINDER, ObjectShape
-from hsr_handover.planning import trajectory
-from hsr_handover.planning.perceived_scene import PerceivedScene
-from hsr_handover.planning.planner import DIP_ALLOWANCE, _path, path_dips
-from hsr_handover.planning.planning_scene import PlanningScene
-from hsr_handover.planning.trajectory import (
+from hsr_handover.robot.perception.object_shapes import CYLINDER, ObjectShape
+from hsr_handover.robot.planning import trajectory
+from hsr_handover.robot.planning.perceived_scene import PerceivedScene
+from hsr_handover.robot.planning.planner import DIP_ALLOWANCE, _path, path_dips
+from hsr_handover.robot.planning.planning_scene import PlanningScene
+from hsr_handover.robot.planning.trajectory import (
     COLLISION_BOUND,
     ESCAPE_SHARE,
     ESCAPE_SLACK,

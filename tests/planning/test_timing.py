@@ -1,4 +1,4 @@
-"""Timing a path within the joints' limits with toppra (issue 9, part 7)."""
+"""Timing a path within the joints' limits with toppra."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ from pydrake.multibody.tree import PrismaticJoint, SpatialInertia
 from pydrake.trajectories import BsplineTrajectory
 from toppra.parametrizer import ParametrizeConstAccel
 
-from hsr_handover.planning.timing import JointLimits, _DrakePath, joint_limits, time_path
+from hsr_handover.robot.planning.timing import JointLimits, _DrakePath, joint_limits, time_path
 from tests.planning.conftest import configuration
 
 STEP = 0.01  # s between the samples the limits are checked on

@@ -6,8 +6,8 @@ import pytest
 from pydrake.common.value import AbstractValue
 from pydrake.systems.framework import Diagram, DiagramBuilder, LeafSystem
 
-from hsr_handover.perception.object_detection import DetectionResult
-from hsr_handover.perception.skeleton import Skeleton
+from hsr_handover.robot.perception.object_detection import DetectionResult
+from hsr_handover.robot.perception.skeleton import Skeleton
 from hsr_handover.systems.port_types import check_abstract_connections
 
 

@@ -1,0 +1,1 @@
+"""The effectivity figures (paper figs. 8 and 14) on a scenario."""

@@ -1,0 +1,1 @@
+"""The handover experiment (paper 4.3): its trials, their scoring against the truth, the report."""

@@ -1,0 +1,106 @@
+"""Write the intent experiment's results: a CSV row per trial, the JSON summary, a text table,
+and a figure with the paper's figures beside ours."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")  # files only: no display on a robot's or CI's machine
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from hsr_handover.experiments.intent.trial import POSITIONS  # noqa: E402
+from hsr_handover.experiments.reporting import (  # noqa: E402
+    bars_beside_paper,
+    format_value,
+    write_rows,
+)
+from hsr_handover.experiments.trial_classes import class_columns, class_lines  # noqa: E402
+
+CSV_COLUMNS = (
+    "index", "kind", "target", "arm", "recognised", "latency_s", "recognised_time_s",
+    "confidence", "seed", "person_height_m", "person_x_m", "person_y_m", "person_yaw_rad",
+    "person_moved_back_m", "watch_lift_m", "sim_s", "wall_s", "arm_nearest", "arm_error_deg",
+    "error",
+)  # fmt: skip
+
+
+def write_csv(rows: list[dict], path: Path) -> None:
+    """One row per trial, failed trials included with their reason."""
+    write_rows(rows, (*CSV_COLUMNS, *class_columns(rows)), path)
+
+
+def summary_lines(summary: dict) -> list[str]:
+    """The summary as text: success by position beside the paper's, then the rest."""
+    percent = lambda value: format_value(100 * value, "5.1f", " %")  # noqa: E731
+    lines = [f"{'position':8s} {'ours':>8s} {'paper':>8s}"]
+    for side in POSITIONS:
+        ours, paper = summary["by_position"][side], summary["paper_by_position"][side]
+        lines.append(f"{side:8s} {percent(ours):>8s} {percent(paper):>8s}")
+    latency = summary["latency_s"]
+    lines += [
+        f"success over {summary['trials']} requests: {percent(summary['success_rate'])}",
+        f"false triggers over {summary['distractor_trials']} distractor trials: "
+        + percent(summary["false_trigger_rate"]),
+        f"latency from pointing onset: median {format_value(latency['median'], '.2f', ' s')}, "
+        f"p95 {format_value(latency['p95'], '.2f', ' s')}",
+        _arm_alone_line(summary["arm_alone"]),
+        *_raised_lines(summary.get("watched_raised", 0)),
+        *class_lines("requests", summary["by_class"]),
+        *class_lines("distractors", summary["false_triggers_by_class"], "false triggers"),
+        f"failed trials: {summary['failed_trials']}",
+        *(f"  trial {f['index']}: {f['error']}" for f in summary["failures"]),
+        f"wall time {summary['wall_s']:.0f} s",
+    ]
+    return lines
+
+
+def _raised_lines(raised: int) -> list[str]:
+    """How often the watch-only robot watched from a raised torso (nothing when never)."""
+    if not raised:
+        return []
+    return [f"watched from a raised torso in {raised} trials (the objects would have hidden a "
+            "pointing arm)"]  # fmt: skip
+
+
+def _arm_alone_line(arm: dict) -> str:
+    """How hard the gestures were: the arm alone, beside Breuer et al.'s forearm."""
+    percent = lambda value: format_value(100 * value, ".1f", " %")  # noqa: E731
+    degrees = lambda value: format_value(value, ".1f", " deg")  # noqa: E731
+    breuer = arm["breuer"]
+    return (
+        f"the person's arm alone pointed nearest the target in "
+        f"{percent(arm['nearest_target_rate'])} of requests, mean error "
+        f"{degrees(arm['error_deg_mean'])} (Breuer et al.: {percent(breuer['targets_found'])}, "
+        f"{degrees(breuer['error_deg_mean'])}); of the {arm['misaimed']} that pointed nearer "
+        f"another object, {arm['misaimed_recognised']} were read right"
+    )
+
+
+def plot(summary: dict, path: Path) -> None:
+    """Left: success by position, ours beside the paper's. Right: the confusion matrix."""
+    figure, (bars, matrix) = plt.subplots(1, 2, figsize=(11, 4.2))
+    ours = [100 * summary["by_position"][side] for side in POSITIONS]
+    paper = [100 * summary["paper_by_position"][side] for side in POSITIONS]
+    bars_beside_paper(bars, [f"{side}\n(person's view)" for side in POSITIONS], ours, paper)
+    bars.set_ylabel("target recognised (%)")
+    false_rate = format_value(100 * summary["false_trigger_rate"], ".1f", " %")
+    bars.set_title(f"Intent recognition, {summary['trials']} requests; false triggers {false_rate}")
+    names = list(summary["confusion"])
+    columns = [*names, "none"]
+    counts = np.array([[summary["confusion"][row][col] for col in columns] for row in names])
+    matrix.imshow(counts, cmap="Blues")
+    matrix.set_xticks(range(len(columns)), columns, rotation=30, ha="right")
+    matrix.set_yticks(range(len(names)), names)
+    matrix.set_xlabel("recognised")
+    matrix.set_ylabel("asked for")
+    matrix.set_title("Confusion (trials)")
+    for (row, col), count in np.ndenumerate(counts):
+        dark = count > counts.max() / 2  # white figures on the darker cells
+        matrix.text(col, row, str(count), ha="center", va="center",
+                    color="white" if dark else "black")  # fmt: skip
+    figure.tight_layout()
+    figure.savefig(path, dpi=120)
+    plt.close(figure)

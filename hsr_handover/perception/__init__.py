@@ -1,2 +1,0 @@
-"""Perception algorithms (layer 1) on numpy arrays and images: camera geometry, point clouds,
-object detection, the skeleton sensor model. No Drake systems here."""

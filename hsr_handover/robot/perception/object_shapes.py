@@ -1,0 +1,109 @@
+"""How big a detected object is, from depth: a cylinder or a box standing on the table.
+
+The head camera looks down on the table, so it sees an object's top (a cup's rim, a box's lid)
+as well as its front: the horizontal outline of the object's points is its footprint. Both
+footprints are fitted, the smallest enclosing circle and the smallest rectangle
+(`cv2.minEnclosingCircle`, `cv2.minAreaRect`), and the tighter one names the shape: a square's
+enclosing circle is 1.57 times its area, a circle's enclosing square 1.27 times its. The height
+runs from the table's top to the highest point.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import cv2
+import numpy as np
+
+from hsr_handover.interface.pinhole import PinholeCamera, checked_depth
+from hsr_handover.robot.perception.object_detection import Detection
+
+CYLINDER, BOX = "cylinder", "box"
+MAX_OBJECT_RADIUS = 0.15
+"""m: the farthest a point may lie (horizontally) from the detection's centre and belong to it:
+a tabletop object a hand can grasp."""
+ABOVE_TABLE = 0.005
+"""m: points lower than this above the table's top are the table."""
+MIN_POINTS = 10
+
+
+@dataclasses.dataclass(frozen=True)
+class ObjectShape:
+    """A detected object as a solid standing on the table: `kind` CYLINDER or BOX, the
+    footprint's centre (x, y), its size (m: the cylinder's diameter twice, or the box's sides
+    along its yaw and across), the yaw (rad, 0 for a cylinder), the bottom (the table's top)
+    and the height (m) above it."""
+
+    label: str
+    kind: str
+    center: np.ndarray
+    size: np.ndarray
+    yaw: float
+    bottom: float
+    height: float
+
+    @property
+    def radius(self) -> float:
+        """The radius (m) of the footprint's enclosing circle."""
+        return float(np.hypot(*self.size) / 2) if self.kind == BOX else float(self.size[0] / 2)
+
+    @property
+    def centroid(self) -> np.ndarray:
+        """The middle of the solid (x, y, z)."""
+        return np.array([*self.center, self.bottom + self.height / 2])
+
+
+def object_points(
+    detection: Detection, depth: np.ndarray, camera: PinholeCamera, X_WC: np.ndarray,
+    table_height: float,
+) -> np.ndarray:  # fmt: skip
+    """The world points (N, 3) of the detection's own pixels (its blob; its whole box when the
+    blob is not known) in the depth image (H, W) (m) of the same capture that stand above the
+    table's top and near the detection's centre. Only the object's own colour: over the whole
+    box, a hand in front of a cup and beside it joins its footprint (a 7 cm cup read as a 16 cm
+    box, and the gripper closes on nothing)."""
+    depth = checked_depth(depth, camera)
+    u0, v0, u1, v1 = detection.box
+    window = depth[v0 : v1 + 1, u0 : u1 + 1]
+    own = np.isfinite(window) & (window > 0)
+    if detection.blob is not None:
+        own &= detection.blob
+    v, u = np.nonzero(own)
+    pixels = np.column_stack([u + u0, v + v0]).astype(float)
+    points = camera.deproject(pixels, window[v, u], X_WC)
+    near = np.hypot(*(points[:, :2] - detection.center[:2]).T) <= MAX_OBJECT_RADIUS
+    return points[near & (points[:, 2] > table_height + ABOVE_TABLE)]
+
+
+def fit_shape(label: str, points: np.ndarray, table_height: float) -> ObjectShape | None:
+    """The tighter of a cylinder and a box around the points (N, 3) of one object standing on
+    a table whose top is at `table_height`; None with fewer than MIN_POINTS points."""
+    if len(points) < MIN_POINTS:
+        return None
+    xy = points[:, :2].astype(np.float32)
+    (cx, cy), radius = cv2.minEnclosingCircle(xy)
+    (bx, by), (length, width), angle = cv2.minAreaRect(xy)
+    height = float(points[:, 2].max() - table_height)
+    if math.pi * radius**2 <= length * width:
+        return ObjectShape(label, CYLINDER, np.array([cx, cy]), np.full(2, 2 * radius), 0.0,
+                           table_height, height)  # fmt: skip
+    yaw = math.radians(angle)
+    return ObjectShape(label, BOX, np.array([bx, by]), np.array([length, width]), yaw,
+                       table_height, height)  # fmt: skip
+
+
+def measure_objects(
+    detections, depth: np.ndarray, camera: PinholeCamera, X_WC: np.ndarray, table_height: float
+) -> list[ObjectShape]:
+    """The shape of each detection with a 3-D centre and enough depth on it; the others are
+    left out (the planning scene cannot place them)."""
+    shapes = []
+    for detection in detections:
+        if not np.all(np.isfinite(detection.center)):
+            continue
+        points = object_points(detection, depth, camera, X_WC, table_height)
+        shape = fit_shape(detection.label, points, table_height)
+        if shape is not None:
+            shapes.append(shape)
+    return shapes

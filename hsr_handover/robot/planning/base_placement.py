@@ -1,0 +1,144 @@
+"""Where the base stands for a grasp, and the arm's first guess there.
+
+The arm reaches forward in the vertical plane y = 0.078 m of the base frame (its flex joint's
+offset), so for a hand pointing along the approach the base faces the approach and stands a
+reach `d` behind the palm. Each reach the arm's effectivity map holds at the palm's height is
+a candidate; those whose base (arm folded up) stays clear of the table, the objects and the
+person are tried, the reach nearest PREFERRED_REACH first. A vertical approach leaves the
+base's heading free: it faces the object from where the robot stands, or, `turned`, stands
+round it (ROUND_TURNS_DEG), which reaches an object deep in a table from the table's nearer
+side (the staggered layout's trial 11 of seed 1: a box 35 cm in from the near edge and 8 cm
+from the side, out of reach from the near side). The arm's seed is eq. 11's walk on
+the map for the palm's position; the map knows positions only, so the hand's orientation is
+then the grasp's: no roll, the wrist flexed to the approach's pitch, the wrist rolled to the
+closing axis.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from hsr_handover.hsr import ARM_JOINTS, BASE_JOINTS, TORSO_JOINT
+from hsr_handover.kinematics import hsr_arm
+from hsr_handover.kinematics.hsr_arm import ARM_FLEX_ORIGIN
+from hsr_handover.robot.effectivity.arm_map import ArmEffectivity
+from hsr_handover.robot.planning.grasps import PAD_OFFSET
+from hsr_handover.robot.planning.planning_scene import PlanningScene
+
+REACHES = np.arange(0.30, 0.66, 0.025)  # m, palm ahead of the base centre, the candidates
+PREFERRED_REACH = 0.47  # m: the arm about level, far from its limits
+BASE_CLEARANCE = 0.04  # m the folded-up robot keeps from every obstacle where it stands
+MAX_CANDIDATES = 4
+ROUND_TURNS_DEG = (90.0, -90.0, 45.0, -45.0, 135.0, -135.0, 180.0)
+"""Headings a turned base tries for a vertical approach, from facing the object as it does
+from where the robot stands: square to that first (beside a table the robot faces), then
+halfway, then from beyond the object."""
+VERTICAL = 0.3  # an approach whose horizontal part is shorter than this is vertical
+
+
+@dataclasses.dataclass(frozen=True)
+class BasePlacement:
+    """A full configuration `q` (plant positions) with the base at a candidate pose and the arm
+    at its seed; `reach` (m) of the palm ahead of the base, `clearance` (m) of the folded robot
+    there."""
+
+    q: np.ndarray
+    reach: float
+    clearance: float
+
+
+def base_yaws(approach: np.ndarray, toward: np.ndarray, turned: bool = False) -> list[float]:
+    """The base faces a horizontal approach; for a vertical one, the object from `toward`
+    (the vector from the robot to the object), or, `turned`, from round it. A turned base for
+    a horizontal approach has no heading to try."""
+    vertical = np.hypot(*approach[:2]) <= VERTICAL
+    horizontal = toward[:2] if vertical else approach[:2]
+    yaw = math.atan2(horizontal[1], horizontal[0])
+    if not turned:
+        return [yaw]
+    return [yaw + math.radians(turn) for turn in ROUND_TURNS_DEG] if vertical else []
+
+
+def base_pose(palm: np.ndarray, yaw: float, reach: float) -> np.ndarray:
+    """(x, y) of the base that puts the arm's plane through `palm` at `reach` ahead."""
+    c, s = math.cos(yaw), math.sin(yaw)
+    offset = np.array([reach, ARM_FLEX_ORIGIN[1]])
+    return palm[:2] - np.array([[c, -s], [s, c]]) @ offset
+
+
+def hand_posture(arm: np.ndarray, approach_local: np.ndarray, closing_local: np.ndarray):
+    """The arm seed (5,) with the hand's orientation set: arm roll 0, the wrist flexed so the
+    palm's z points along `approach_local` (base frame), the wrist rolled so its y lies along
+    `closing_local` (either sign)."""
+    arm = arm.copy()
+    pitch = math.atan2(np.hypot(*approach_local[:2]), approach_local[2])  # from straight up
+    arm[2] = 0.0
+    arm[3] = -pitch - arm[1]
+    # With no roll the palm's y is the base's -y; rolling the wrist turns it in the hand's plane.
+    roll = math.atan2(-closing_local[0], -closing_local[1]) if pitch > 3 * math.pi / 4 else 0.0
+    arm[4] = (roll + math.pi / 2) % math.pi - math.pi / 2
+    return np.clip(arm, hsr_arm.ARM_LOWER, hsr_arm.ARM_UPPER)
+
+
+def place_base(
+    scene: PlanningScene,
+    arm_map: ArmEffectivity | None,
+    point: np.ndarray,
+    approach: np.ndarray,
+    closing: np.ndarray,
+    q_now: np.ndarray,
+    ignore: tuple[str, ...] = (),
+    most: int = MAX_CANDIDATES,
+    turned: bool = False,
+) -> list[BasePlacement]:
+    """At most `most` base poses and arm seeds for putting the pads' centre at `point` along
+    `approach`, best first, clear of all but `ignore` (an object held); `turned`, those round
+    the object a vertical approach allows (`base_yaws`), none for a horizontal one. With no
+    map (the unseeded baseline) there is one candidate per heading at PREFERRED_REACH with the
+    arm as it is now."""
+    palm = np.asarray(point, float) - PAD_OFFSET * np.asarray(approach, float)
+    robot_xy = q_now[[scene.index(BASE_JOINTS[0]), scene.index(BASE_JOINTS[1])]]
+    reaches = [PREFERRED_REACH] if arm_map is None else sorted(
+        REACHES, key=lambda reach: abs(reach - PREFERRED_REACH))  # fmt: skip
+    placements = []
+    for yaw in base_yaws(approach, palm - np.array([*robot_xy, palm[2]]), turned):
+        to_base = np.array([[math.cos(yaw), math.sin(yaw), 0],
+                            [-math.sin(yaw), math.cos(yaw), 0], [0, 0, 1]])  # fmt: skip
+        for reach in reaches:
+            local = np.array([reach, ARM_FLEX_ORIGIN[1], palm[2]])
+            if arm_map is not None and not arm_map.reachable(local[None])[0]:
+                continue
+            q = _at_base(scene, q_now, base_pose(palm, yaw, reach), yaw)
+            clearance = _folded_clearance(scene, q, ignore)
+            if clearance < BASE_CLEARANCE:
+                continue
+            if arm_map is not None:
+                seed = arm_map.seed(local[None])[0]
+                _set_arm(scene, q, hand_posture(seed, to_base @ approach, to_base @ closing))
+            placements.append(BasePlacement(q, float(reach), clearance))
+            if len(placements) == most:
+                return placements
+    return placements
+
+
+def _at_base(scene: PlanningScene, q_now: np.ndarray, xy: np.ndarray, yaw: float) -> np.ndarray:
+    q = q_now.copy()
+    for joint, value in zip(BASE_JOINTS, (*xy, yaw), strict=True):
+        q[scene.index(joint)] = value
+    return q
+
+
+def _set_arm(scene: PlanningScene, q: np.ndarray, arm: np.ndarray) -> None:
+    for joint, value in zip(ARM_JOINTS, arm, strict=True):
+        q[scene.index(joint)] = value
+    q[scene.index(TORSO_JOINT)] = 0.5 * arm[0]
+
+
+def _folded_clearance(scene: PlanningScene, q: np.ndarray, ignore: tuple[str, ...]) -> float:
+    """The robot's clearance at q's base with the arm straight up (folded over the base)."""
+    folded = q.copy()
+    _set_arm(scene, folded, np.zeros(len(ARM_JOINTS)))
+    return scene.clearance_at(folded, ignore)

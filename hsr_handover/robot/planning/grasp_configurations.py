@@ -1,0 +1,82 @@
+"""The configurations of a grasp: for the first grasp candidate and base
+placement that inverse kinematics confirms, the grasp itself (pads round the target, which
+alone may be touched), the pre-grasp standing off along the approach (everything avoided) and
+the lift (the object held, straight up, the base still). "unreachable" when none is found,
+never an exception.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from collections.abc import Iterator
+
+import numpy as np
+
+from hsr_handover.hsr import BASE_JOINTS
+from hsr_handover.robot.effectivity.arm_map import ArmEffectivity
+from hsr_handover.robot.planning.base_placement import BasePlacement, place_base
+from hsr_handover.robot.planning.grasps import Grasp, grasp_candidates
+from hsr_handover.robot.planning.inverse_kinematics import PalmGoal, solve_palm_ik
+from hsr_handover.robot.planning.planning_scene import PlanningScene
+
+UNREACHABLE = "unreachable"
+
+
+@dataclasses.dataclass(frozen=True)
+class GraspConfigurations:
+    """`ok` with the `grasp`, `q_pregrasp`, `q_grasp` (open round the object) and `q_lifted`
+    (closed on it, lifted) (plant positions), or not with the `reason`; `ik_solves` tried and
+    their `seconds`."""
+
+    ok: bool
+    reason: str
+    grasp: Grasp | None = None
+    q_pregrasp: np.ndarray | None = None
+    q_grasp: np.ndarray | None = None
+    q_lifted: np.ndarray | None = None
+    ik_solves: int = 0
+    seconds: float = 0.0
+
+
+def grasp_configurations(
+    scene: PlanningScene, arm_map: ArmEffectivity | None, label: str, q_now: np.ndarray
+) -> GraspConfigurations:
+    """Grasp the perceived object `label` from the robot's configuration `q_now`; with
+    `arm_map` None, IK starts from the arm as it is (the unseeded baseline)."""
+    start = time.perf_counter()
+    shape = scene.scene.object_named(label)
+    if shape is None:
+        return GraspConfigurations(False, f"{UNREACHABLE}: {label!r} is not in the scene")
+    robot_xy = q_now[[scene.index(BASE_JOINTS[0]), scene.index(BASE_JOINTS[1])]]
+    solves = 0
+    for grasp, placement in _placements(scene, arm_map, grasp_candidates(shape, robot_xy), q_now):
+        goal = PalmGoal(grasp.point, grasp.approach, grasp.closing, grasp.opening)
+        at_grasp = solve_palm_ik(scene, goal, placement.q, ignore=(label,))
+        solves += 1
+        if not at_grasp.ok:
+            continue
+        before = dataclasses.replace(goal, point=grasp.pregrasp_point)
+        at_pregrasp = solve_palm_ik(scene, before, at_grasp.q)
+        held = dataclasses.replace(goal, point=grasp.lifted_point, opening=grasp.width)
+        lifted = solve_palm_ik(scene, held, at_grasp.q, ignore=(label,), base_fixed=True)
+        solves += 2
+        if at_pregrasp.ok and lifted.ok:
+            seconds = time.perf_counter() - start
+            return GraspConfigurations(True, "ok", grasp, at_pregrasp.q, at_grasp.q,
+                                       lifted.q, solves, seconds)  # fmt: skip
+    reason = f"{UNREACHABLE}: no grasp of {label!r} passed inverse kinematics"
+    return GraspConfigurations(False, reason, ik_solves=solves,
+                               seconds=time.perf_counter() - start)  # fmt: skip
+
+
+def _placements(
+    scene: PlanningScene, arm_map: ArmEffectivity | None, grasps: list[Grasp], q_now: np.ndarray
+) -> Iterator[tuple[Grasp, BasePlacement]]:
+    """Each grasp with each base placement for it, best first; then, as a last resort, the
+    grasps from above with the base turned round the object (`place_base`'s `turned`)."""
+    for turned in (False, True):
+        for grasp in grasps:
+            for placement in place_base(scene, arm_map, grasp.point, grasp.approach,
+                                        grasp.closing, q_now, turned=turned):  # fmt: skip
+                yield grasp, placement

@@ -1,0 +1,299 @@
+"""The planning scene: a MultibodyPlant of its own holding the HSR and, as fixed collision
+geometry, what the robot perceives (docs/design.md §3.4). Never the simulation's plant: that is
+truth.
+
+The table is a solid block from the floor to its fitted top (the camera cannot see under it,
+so no plan goes there); each object a cylinder or box; the person a capsule per bone. Table and
+objects are widened by TABLE_MARGIN and OBJECT_MARGIN, the person's capsules by their own
+margin. The HSR's own links do not collide with one another here: the arm's joint limits keep
+it off its body.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+from collections.abc import Iterator, Mapping, Sequence
+
+import numpy as np
+from pydrake.geometry import (
+    Box,
+    CollisionFilterDeclaration,
+    Cylinder,
+    GeometryId,
+    GeometryInstance,
+    GeometrySet,
+    ProximityProperties,
+    QueryObject,
+    Shape,
+)
+from pydrake.geometry import Capsule as CapsuleShape
+from pydrake.math import RigidTransform, RotationMatrix
+from pydrake.multibody.parsing import Parser
+from pydrake.multibody.plant import AddMultibodyPlantSceneGraph, CoulombFriction, MultibodyPlant
+from pydrake.multibody.tree import Body
+from pydrake.systems.framework import Context, DiagramBuilder
+
+from hsr_handover.hsr import (
+    GRIPPER_JOINT,
+    GRIPPER_MIMIC_JOINT,
+    PALM_FRAME,
+    TORSO_JOINT,
+    add_hsr,
+    hsr_set_positions,
+)
+from hsr_handover.robot.perception.object_shapes import CYLINDER, ObjectShape
+from hsr_handover.robot.perception.table_fit import TableEstimate
+from hsr_handover.robot.planning.perceived_scene import Capsule, PerceivedScene
+
+PLANNING_TIME_STEP = 0.01  # s: the HSR's mimic couplings need a discrete plant; never stepped
+TABLE, PERSON, HELD = "table", "person", "held"
+NEAR = 0.5  # m: distances beyond this are not computed
+TABLE_MARGIN = 0.01
+"""m added round the table's sides and top: the fit is good to about a centimetre."""
+OBJECT_MARGIN = 0.02
+"""m added round each object's sides and top: an object is sized from the side the camera
+sees, and its back, hidden, can be 2 cm deeper than seen (a hand on its way to a cup's
+pre-grasp came within 0.5 cm of it with 1 cm here)."""
+HELD_MARGIN = 0.02
+"""m added round a held object's sides and top beyond OBJECT_MARGIN, and the two of them under
+it: the grip can turn, shift and tilt it in the fingers, and the shape perceived at the grasp,
+from the camera's side, is the smaller (a box can sag 1.4 cm and tilt 13 degrees in the fingers
+as a carry sets off). The held object's second detection (`seen_in_hand`) and a start allowance
+for every obstacle (`trajectory.StartContact`) keep a carried box off its neighbours."""
+HELD_SPREAD = OBJECT_MARGIN + HELD_MARGIN  # m the held solid reaches past the object's sides
+
+
+def _table_block(table: TableEstimate) -> tuple[Shape, RigidTransform]:
+    height = table.height + TABLE_MARGIN
+    pose = RigidTransform(RotationMatrix.MakeZRotation(table.yaw), [*table.center, height / 2])
+    return Box(*(table.size + 2 * TABLE_MARGIN), height), pose
+
+
+def _object_solid(
+    shape: ObjectShape, margin: float = OBJECT_MARGIN, below: float = 0.0
+) -> tuple[Shape, RigidTransform]:
+    """The object widened by `margin` round its sides and top and by `below` under it."""
+    height = shape.height + margin + below
+    center = [*shape.center, shape.bottom - below + height / 2]
+    pose = RigidTransform(RotationMatrix.MakeZRotation(shape.yaw), center)
+    if shape.kind == CYLINDER:
+        return Cylinder(shape.radius + margin, height), pose
+    return Box(*(shape.size + 2 * margin), height), pose
+
+
+def _capsule_solid(capsule: Capsule) -> tuple[Shape, RigidTransform]:
+    axis = capsule.end - capsule.start
+    rotation = RotationMatrix.MakeFromOneVector(axis if capsule.length > 1e-9 else [0, 0, 1], 2)
+    pose = RigidTransform(rotation, (capsule.start + capsule.end) / 2)
+    return CapsuleShape(capsule.radius, capsule.length), pose
+
+
+class PlanningScene:
+    """The HSR and the perceived scene in a plant built for planning queries.
+
+    `plant`, `scene_graph`, `diagram` and a `context` (with `plant_context`) to query; the
+    HSR's model instance is `robot`. `geometry` maps each obstacle's name (TABLE, an object's
+    label, or PERSON) to its geometry ids.
+    """
+
+    def __init__(self, scene: PerceivedScene):
+        builder = DiagramBuilder()
+        plant, scene_graph = AddMultibodyPlantSceneGraph(builder, PLANNING_TIME_STEP)
+        self.plant: MultibodyPlant = plant
+        self.scene_graph = scene_graph
+        self.robot = add_hsr(plant, Parser(plant))
+        self.scene = scene
+        self.geometry: dict[str, list[GeometryId]] = {}
+        if scene.table is not None:
+            self._add(TABLE, *_table_block(scene.table))
+        for shape in scene.objects:
+            self._add(shape.label, *_object_solid(shape))
+        for capsule in scene.person:
+            self._add(PERSON, *_capsule_solid(capsule))
+        plant.Finalize()
+        bodies = [plant.get_body(body) for body in plant.GetBodyIndices(self.robot)]
+        self._robot_ids = [g for b in bodies for g in plant.GetCollisionGeometriesForBody(b)]
+        self.robot_geometry = GeometrySet(self._robot_ids)
+        scene_graph.collision_filter_manager().Apply(
+            CollisionFilterDeclaration().ExcludeWithin(self.robot_geometry)
+        )
+        self.diagram = builder.Build()
+        self.context = self.diagram.CreateDefaultContext()
+        self.plant_context = plant.GetMyMutableContextFromRoot(self.context)
+        self._scene_graph_context = scene_graph.GetMyMutableContextFromRoot(self.context)
+
+    def _add(self, name: str, shape: Shape, pose: RigidTransform) -> None:
+        index = sum(len(ids) for ids in self.geometry.values())
+        gid = self.plant.RegisterCollisionGeometry(
+            self.plant.world_body(), pose, shape, f"{name}_{index}", CoulombFriction(0.5, 0.5)
+        )
+        self.geometry.setdefault(name, []).append(gid)
+
+    def set_positions(self, positions: Mapping[str, float]) -> None:
+        """Put the HSR in a configuration (actuated joint names, or "gripper" for the opening;
+        the torso follows the arm lift), held within the joints' limits."""
+        hsr_set_positions(self.plant, self.plant_context, self.robot, positions)
+        # Sensors read a hair outside a limit (a finger at -1e-23 m): the planner starts inside.
+        q = self.plant.GetPositions(self.plant_context)
+        lower, upper = self.plant.GetPositionLowerLimits(), self.plant.GetPositionUpperLimits()
+        self.plant.SetPositions(self.plant_context, np.clip(q, lower, upper))
+
+    def index(self, joint: str) -> int:
+        """The joint's index in the plant's position vector (not the joint order)."""
+        return self.plant.GetJointByName(joint, self.robot).position_start()
+
+    def positions(self) -> np.ndarray:
+        return self.plant.GetPositions(self.plant_context).copy()
+
+    def couplings(self) -> tuple[np.ndarray, np.ndarray]:
+        """(A, b) with A q = b: the torso at half the arm lift, the right finger with the left
+        (the plant's mimic joints, which optimisation does not see)."""
+        rows = []
+        for follower, leader, ratio in ((TORSO_JOINT, "arm_lift_joint", 0.5),
+                                        (GRIPPER_MIMIC_JOINT, GRIPPER_JOINT, 1.0)):  # fmt: skip
+            row = np.zeros(self.plant.num_positions())
+            row[self.index(follower)], row[self.index(leader)] = 1.0, -ratio
+            rows.append(row)
+        return np.array(rows), np.zeros(len(rows))
+
+    def _moving(self) -> GeometrySet:
+        """The HSR's geometry and the object it holds, if any."""
+        return GeometrySet([*self._robot_ids, *self.geometry.get(HELD, [])])
+
+    def _excluding(self, names: Sequence[str]) -> CollisionFilterDeclaration:
+        ids = GeometrySet([gid for name in names for gid in self.geometry.get(name, [])])
+        return CollisionFilterDeclaration().ExcludeBetween(self._moving(), ids)
+
+    @contextlib.contextmanager
+    def ignoring(self, names: Sequence[str]) -> Iterator[None]:
+        """Within the block, the HSR and the object it holds do not collide with the obstacles
+        named (a target being grasped, the object held): distance queries and constraints
+        leave them out."""
+        manager = self.scene_graph.collision_filter_manager(self._scene_graph_context)
+        handle = manager.ApplyTransient(self._excluding(names))
+        try:
+            yield
+        finally:
+            manager.RemoveDeclaration(handle)
+
+    def ignoring_context(self, names: Sequence[str]) -> tuple[Context, Context]:
+        """A copy of the scene's context (the HSR as it is, any object held, the obstacles
+        ignored now) in which the obstacles named are left out too, for good: for constraints
+        that must see other obstacles than the scene's own context does. Returns the copy and
+        its plant context; keep the copy alive while the plant context is used."""
+        root = self.context.Clone()
+        scene_graph_context = self.scene_graph.GetMyMutableContextFromRoot(root)
+        manager = self.scene_graph.collision_filter_manager(scene_graph_context)
+        manager.ApplyTransient(self._excluding(names))  # the copy may hold transient ones
+        return root, self.plant.GetMyMutableContextFromRoot(root)
+
+    @contextlib.contextmanager
+    def holding(
+        self,
+        label: str,
+        q_grasp: np.ndarray,
+        shape: ObjectShape | None = None,
+        q_now: np.ndarray | None = None,
+    ) -> Iterator[None]:
+        """Within the block, the perceived object `label` moves with the hand, as it sat in the
+        hand closed on it at `q_grasp` (plant positions): its solid hangs on the palm's body,
+        an obstacle to all but the robot, and its copy in the scene is left out. `shape` is
+        the object as perceived when grasped (default: as perceived now, which is right only
+        while it still stands where the hand closed on it), widened by HELD_SPREAD all round,
+        underneath too. With the HSR's positions now, `q_now`, the detections that are the
+        held object seen again where it is now (`seen_in_hand`) are left out too. An object
+        not in the scene and without a `shape` changes nothing."""
+        shape = self.scene.object_named(label) if shape is None else shape
+        if shape is None:
+            yield
+            return
+        X_WH = self.hand_pose(q_grasp)
+        seen = () if q_now is None else self.seen_in_hand(shape, X_WH, q_now)
+        solid, X_WO = _object_solid(shape, HELD_SPREAD, below=HELD_SPREAD)
+        instance = GeometryInstance(X_WH.inverse() @ X_WO, solid, f"held_{label}")
+        instance.set_proximity_properties(ProximityProperties())
+        source = self.plant.get_source_id()
+        hand = self._hand()
+        held = self.scene_graph.RegisterGeometry(
+            self._scene_graph_context, source, self.plant.GetBodyFrameIdOrThrow(hand.index()),
+            instance,
+        )  # fmt: skip
+        manager = self.scene_graph.collision_filter_manager(self._scene_graph_context)
+        handle = manager.ApplyTransient(
+            CollisionFilterDeclaration().ExcludeBetween(self.robot_geometry, GeometrySet([held]))
+        )
+        self.geometry[HELD] = [held]
+        try:
+            with self.ignoring((label, *seen)):
+                yield
+        finally:
+            del self.geometry[HELD]
+            manager.RemoveDeclaration(handle)
+            self.scene_graph.RemoveGeometry(self._scene_graph_context, source, held)
+
+    def _hand(self) -> Body:
+        """The body that PALM_FRAME is on: a held object hangs on it."""
+        return self.plant.GetFrameByName(PALM_FRAME, self.robot).body()
+
+    def hand_pose(self, q: np.ndarray) -> RigidTransform:
+        """The hand's body (`_hand`) in the world with the HSR at `q`; the scene's own positions
+        are left as they were."""
+        positions = self.positions()
+        self.plant.SetPositions(self.plant_context, q)
+        X_WH = self._hand().EvalPoseInWorld(self.plant_context)
+        self.plant.SetPositions(self.plant_context, positions)
+        return X_WH
+
+    def seen_in_hand(
+        self, shape: ObjectShape, X_WH_grasp: RigidTransform, q_now: np.ndarray
+    ) -> tuple[str, ...]:
+        """The labels of the perceived objects that are `shape`, held since the hand closed on
+        it with its frame at `X_WH_grasp`, seen again where the hand has it at `q_now`: each
+        one whose footprint's centre lies within the held object's and whose top rises above
+        its bottom. (Lifted, the camera sees it as a column from the table up to its top, and
+        as a new detection when the old one is remembered where it stood.)"""
+        X_WH_now = self.hand_pose(q_now)
+        centre = X_WH_now @ (X_WH_grasp.inverse() @ shape.centroid)
+        bottom = centre[2] - shape.height / 2
+        return tuple(
+            seen.label
+            for seen in self.scene.objects
+            if seen.label != shape.label
+            and np.hypot(*(seen.center - centre[:2])) < shape.radius
+            and seen.bottom + seen.height > bottom
+        )
+
+    def query(self) -> QueryObject:
+        return self.plant.get_geometry_query_input_port().Eval(self.plant_context)
+
+    def clearance_at(self, q: np.ndarray, ignore: tuple[str, ...] = ()) -> float:
+        """The least signed distance (m) with the HSR put at `q` (plant positions)."""
+        self.plant.SetPositions(self.plant_context, q)
+        return self.clearance(ignore)[0]
+
+    def clearance(self, ignore: tuple[str, ...] = ()) -> tuple[float, str]:
+        """The least signed distance (m) between the HSR (and the object it holds) and any
+        obstacle but those named in `ignore`, and that obstacle's name; (inf, "") when nothing
+        is within NEAR."""
+        distances = self.clearances(ignore)
+        nearest = min(distances, key=distances.get, default="")
+        return distances.get(nearest, math.inf), nearest
+
+    def clearances_at(self, q: np.ndarray, ignore: tuple[str, ...] = ()) -> dict[str, float]:
+        """`clearances` with the HSR put at `q` (plant positions)."""
+        self.plant.SetPositions(self.plant_context, q)
+        return self.clearances(ignore)
+
+    def clearances(self, ignore: tuple[str, ...] = ()) -> dict[str, float]:
+        """The least signed distance (m) between the HSR (and the object it holds) and each
+        obstacle within NEAR but those named in `ignore`, by the obstacle's name."""
+        owner = {gid: name for name, ids in self.geometry.items() if name != HELD for gid in ids}
+        distances: dict[str, float] = {}
+        with self.ignoring(ignore):
+            pairs = self.query().ComputeSignedDistancePairwiseClosestPoints(NEAR)
+        for pair in pairs:
+            obstacle = owner.get(pair.id_A, owner.get(pair.id_B))
+            if obstacle is not None:
+                distances[obstacle] = min(distances.get(obstacle, math.inf), float(pair.distance))
+        return distances

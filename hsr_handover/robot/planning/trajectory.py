@@ -1,0 +1,254 @@
+"""A collision-free path between two configurations: Drake's
+KinematicTrajectoryOptimization over every position of the HSR (base included), a cubic
+B-spline (C2, as toppra needs), shortest in duration and length, within the joints' position
+and velocity limits, the torso and the right finger coupled on every control point, the head
+held, and at least COLLISION_BOUND from every obstacle not ignored at COLLISION_SAMPLES points.
+
+The bound is larger than the planner's true margin: between samples a short path may dip by up
+to about 11 mm (docs/design.md §6); a long one (a carry round the table, the object held far
+out from the joints) by much more, so the planner checks each path between its samples (planner.py).
+
+A start that the perceived scene already puts nearer than the bound to some obstacles
+(perception errs toward bulk: a table's unseen end runs on, a person's unseen body is a column
+to the floor; a lift starts with the object on the table) would make every path infeasible;
+over the first ESCAPE_SHARE of such a path the samples need only stay as far from *those*
+obstacles as the start was, less ESCAPE_SLACK (`StartContact`). Every other obstacle keeps the
+bound all the way: a start in contact with one never licenses touching another (a carry that
+starts 7 cm inside the held box's second detection, under one allowance for every obstacle,
+could pass the box 7 cm through a neighbouring cup).
+
+A grasp's approach may touch the object it closes on, but only as its goal does (`Target`): no
+nearer to it anywhere on the way than the pads straddling it at the end.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+
+import numpy as np
+from pydrake.multibody.inverse_kinematics import MinimumDistanceLowerBoundConstraint
+from pydrake.planning import KinematicTrajectoryOptimization
+from pydrake.trajectories import BsplineTrajectory
+
+from hsr_handover.hsr import BASE_JOINTS, GRIPPER_JOINT, GRIPPER_MIMIC_JOINT, HEAD_JOINTS
+from hsr_handover.robot.planning.planning_scene import HELD, PlanningScene
+from hsr_handover.robot.planning.solving import solve, solved
+
+CONTROL_POINTS = 10
+ROUTE_CONTROL_POINTS = 16  # for a way round the table
+STOWED = {"arm_lift_joint": 0.0, "torso_lift_joint": 0.0, "arm_flex_joint": 0.0,
+          "arm_roll_joint": 0.0, "wrist_flex_joint": -1.57, "wrist_roll_joint": 0.0}  # fmt: skip
+"""The arm folded over the base, the hand tucked (the ready posture): how the base drives."""
+COLLISION_SAMPLES = 30
+COLLISION_BOUND = 0.013  # m at the samples: about 1 cm everywhere between them
+INFLUENCE = 0.05  # m beyond the bound where distances start to count
+ESCAPE_SHARE = 0.3  # of the path over which a start within the bound may stay that near
+ESCAPE_SLACK = 0.005  # m nearer than the start it may come meanwhile
+MAX_DURATION = 30.0  # s of the path's nominal time (toppra retimes it)
+FREE_POSITION = 20.0  # m: stands in for the base's unbounded x and y
+
+
+@dataclasses.dataclass(frozen=True)
+class PathResult:
+    """`ok` with the `path` (a B-spline over plant positions, on its own time scale), or not
+    with the `reason`; `seconds` spent."""
+
+    ok: bool
+    reason: str
+    path: BsplineTrajectory | None
+    seconds: float
+
+
+@dataclasses.dataclass(frozen=True)
+class StartContact:
+    """The obstacles a path's start lies nearer than COLLISION_BOUND to (`names`, none for a
+    clear start) and its least clearance (m) to them."""
+
+    names: tuple[str, ...] = ()
+    clearance: float = COLLISION_BOUND
+
+    def bound(self, name: str, spot: float) -> float:
+        """The least distance (m) to keep from the obstacle `name` at `spot` (0 to 1) along
+        the path: COLLISION_BOUND, or for an obstacle the start touches, over the first
+        ESCAPE_SHARE, the start's clearance less ESCAPE_SLACK."""
+        if name in self.names and spot <= ESCAPE_SHARE:
+            return self.clearance - ESCAPE_SLACK
+        return COLLISION_BOUND
+
+    def dip(self, clearances: dict[str, float], spot: float) -> float:
+        """How far (m) the clearances by obstacle at `spot` come inside their bounds (negative
+        when all keep clear of them)."""
+        dips = (self.bound(name, spot) - d for name, d in clearances.items())
+        return max(dips, default=-math.inf)
+
+
+@dataclasses.dataclass(frozen=True)
+class Target:
+    """The obstacle `name` that a path's goal closes the hand on (left out of the obstacles to
+    keep COLLISION_BOUND from) and the least distance (m) kept from it all the way, `bound`:
+    the goal's own, where the pads straddle it, less ESCAPE_SLACK, and no more than
+    COLLISION_BOUND. Left out altogether, an approach that the optimiser bent round a
+    neighbour swept a pad 3 cm into the box it was going to grasp, and knocked it over (the
+    standing layout's trial 1, seed 2)."""
+
+    name: str
+    bound: float
+
+
+def approached_target(scene: PlanningScene, q_goal: np.ndarray, name: str) -> Target:
+    """The `Target` for a path to `q_goal` that closes the hand on the obstacle `name`."""
+    at_goal = scene.clearances_at(q_goal).get(name, math.inf)
+    return Target(name, min(COLLISION_BOUND, at_goal - ESCAPE_SLACK))
+
+
+def start_contact(
+    scene: PlanningScene, q_start: np.ndarray, ignore: tuple[str, ...] = ()
+) -> StartContact:
+    """The obstacles (but those in `ignore`) that the HSR at `q_start` is within
+    COLLISION_BOUND of."""
+    near = {name: d for name, d in scene.clearances_at(q_start, ignore).items()
+            if d < COLLISION_BOUND}  # fmt: skip
+    if not near:
+        return StartContact()
+    return StartContact(tuple(sorted(near)), min(near.values()))
+
+
+def straight_guess(q_start: np.ndarray, q_goal: np.ndarray, count: int = CONTROL_POINTS):
+    """Control points (nq, count) on the straight line in joint space."""
+    return np.linspace(q_start, q_goal, count).T
+
+
+def route_guess(
+    scene: PlanningScene,
+    q_start: np.ndarray,
+    q_goal: np.ndarray,
+    route: np.ndarray,
+    count: int = ROUTE_CONTROL_POINTS,
+) -> np.ndarray:
+    """Control points (nq, count) that fold the arm, drive the base through the `route`'s
+    points (k, 2) and unfold the arm at the goal, evenly spaced along that way in joint space."""
+    stowed_start, stowed_goal = q_start.copy(), q_goal.copy()
+    for q in (stowed_start, stowed_goal):
+        for joint, value in STOWED.items():
+            q[scene.index(joint)] = value
+    x, y, yaw = (scene.index(joint) for joint in BASE_JOINTS)
+    keys = [q_start, stowed_start]
+    for k, point in enumerate(route[1:-1], start=1):
+        q = stowed_start + (stowed_goal - stowed_start) * k / (len(route) - 1)
+        q[x], q[y] = point
+        keys.append(q)
+    keys += [stowed_goal, q_goal]
+    keys = np.array(keys)
+    along = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(keys, axis=0), axis=1))])
+    spots = np.linspace(0.0, along[-1], count)
+    return np.array([np.interp(spots, along, keys[:, i]) for i in range(keys.shape[1])])
+
+
+def optimize_path(
+    scene: PlanningScene,
+    q_start: np.ndarray,
+    q_goal: np.ndarray,
+    guess: np.ndarray | None = None,
+    ignore: tuple[str, ...] = (),
+    samples: int = COLLISION_SAMPLES,
+    target: Target | None = None,
+) -> PathResult:
+    """The path from `q_start` to `q_goal` (plant positions), starting from the control points
+    `guess` (nq, any count; the straight line through CONTROL_POINTS when None), kept clear at
+    `samples` evenly spaced points, and of the `target` (one of `ignore`) by its bound. Never
+    raises for an infeasible problem: `ok` is False and `reason` says why."""
+    start = time.perf_counter()
+    guess = straight_guess(q_start, q_goal) if guess is None else guess
+    contact = start_contact(scene, q_start, ignore)
+    # A context that sees the target alone, made before the target is ignored with the rest.
+    alone = None if target is None else scene.ignoring_context(_all_but(scene, (target.name,)))
+    with scene.ignoring(ignore):
+        trajopt = _build(scene, q_start, q_goal, guess.shape[1])
+        constraints = _keep_clear(trajopt, scene, contact, samples)
+        if alone is not None:
+            root, context = alone
+            constraints += [root, context, _keep_clear_of(trajopt, scene, target, context, samples)]
+        trajopt.SetInitialGuess(BsplineTrajectory(trajopt.basis(), guess * 1.0))
+        result = solve(trajopt.prog())
+        usable = solved(trajopt.prog(), result)
+        del constraints  # the solve is done; the constraints held the plant contexts
+    seconds = time.perf_counter() - start
+    if not usable:
+        reason = f"no path ({result.get_solver_id().name()} {result.get_solution_result().name})"
+        return PathResult(False, reason, None, seconds)
+    return PathResult(True, "ok", trajopt.ReconstructTrajectory(result), seconds)
+
+
+def _build(
+    scene: PlanningScene,
+    q_start: np.ndarray,
+    q_goal: np.ndarray,
+    control_points: int,
+):
+    plant = scene.plant
+    nq = plant.num_positions()
+    trajopt = KinematicTrajectoryOptimization(nq, control_points)
+    prog = trajopt.get_mutable_prog()
+    trajopt.AddDurationCost(1.0)
+    trajopt.AddPathLengthCost(1.0)
+    lower = np.maximum(plant.GetPositionLowerLimits(), -FREE_POSITION)
+    upper = np.minimum(plant.GetPositionUpperLimits(), FREE_POSITION)
+    trajopt.AddPositionBounds(lower, upper)
+    trajopt.AddVelocityBounds(-plant.GetVelocityUpperLimits(), plant.GetVelocityUpperLimits())
+    trajopt.AddDurationConstraint(0.1, MAX_DURATION)
+    trajopt.AddPathPositionConstraint(q_start, q_start, 0)
+    trajopt.AddPathPositionConstraint(q_goal, q_goal, 1)
+    A, b = scene.couplings()
+    points = trajopt.control_points()
+    held = [scene.index(joint) for joint in HEAD_JOINTS]
+    # The fingers go where the gripper is commanded, not where a path would have them: left
+    # free, the optimiser half shut them to pass a table's edge that the open fingers then cut
+    # 2 cm into (the standing layout's trial 7, seed 1). They stay between start and goal.
+    fingers = [scene.index(joint) for joint in (GRIPPER_JOINT, GRIPPER_MIMIC_JOINT)]
+    low = np.minimum(q_start[fingers], q_goal[fingers])
+    high = np.maximum(q_start[fingers], q_goal[fingers])
+    for j in range(points.shape[1]):
+        prog.AddLinearEqualityConstraint(A, b, points[:, j])
+        prog.AddBoundingBoxConstraint(q_start[held], q_start[held], points[held, j])
+        prog.AddBoundingBoxConstraint(low, high, points[fingers, j])
+    return trajopt
+
+
+def _all_but(scene: PlanningScene, names: tuple[str, ...]) -> list[str]:
+    """The scene's obstacles other than those named (the held object is the robot's)."""
+    return [other for other in scene.geometry if other not in names and other != HELD]
+
+
+def _keep_clear_of(trajopt, scene: PlanningScene, target: Target, context, samples: int):
+    """Keep the path at `samples` evenly spaced points `target.bound` from the target, which
+    alone the plant `context` sees; the constraint, to keep alive through the solve."""
+    bound = MinimumDistanceLowerBoundConstraint(scene.plant, target.bound, context, None, INFLUENCE)
+    for spot in np.linspace(0.0, 1.0, samples):
+        trajopt.AddPathPositionConstraint(bound, spot)
+    return bound
+
+
+def _keep_clear(trajopt, scene: PlanningScene, contact: StartContact, samples: int) -> list:
+    """Keep the path at `samples` evenly spaced points clear of the scene by COLLISION_BOUND,
+    and of the obstacles its start touches (`contact`) by their StartContact bounds (each
+    constraint in a context that sees only its obstacles); the objects to keep alive through
+    the solve."""
+    plant, spots = scene.plant, np.linspace(0.0, 1.0, samples)
+
+    def lower_bound(bound: float, plant_context):
+        return MinimumDistanceLowerBoundConstraint(plant, bound, plant_context, None, INFLUENCE)
+
+    everything = lower_bound(COLLISION_BOUND, scene.plant_context)
+    alive, escape = [everything], (everything,)
+    if contact.names:
+        touched_root, touched = scene.ignoring_context(_all_but(scene, contact.names))
+        rest_root, rest = scene.ignoring_context(contact.names)
+        escape = (lower_bound(contact.bound(contact.names[0], 0.0), touched),
+                  lower_bound(COLLISION_BOUND, rest))  # fmt: skip
+        alive += [touched_root, rest_root, touched, rest, *escape]
+    for spot in spots:
+        for constraint in escape if spot <= ESCAPE_SHARE else (everything,):
+            trajopt.AddPathPositionConstraint(constraint, spot)
+    return alive

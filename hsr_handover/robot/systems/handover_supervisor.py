@@ -1,0 +1,321 @@
+"""HandoverSupervisor: the robot's perceiving-acting cycle as a Drake system.
+
+Inputs, all percepts: `hsr_state_measured` and `gripper_opening_measured` (the joint sensors),
+`hsr_wrist_wrench_measured` (the wrist's force-torque sensor),
+`intent` (the IntentEstimator's state), `perceived_scene`, `skeleton` (lifted) and
+`detections`, and optionally `head_command` (the GazeController's: the head is its after the
+look round whenever the cycle looks at nothing in particular; unconnected, the head holds the
+ready posture's). Every TICK_S it looks round first (the head panned to the table's ends), then
+steps the `HandoverCycle` on what it perceives; the cycle plans through a `PerceivedPlanner`.
+Once it has seen the person's shoulders and the objects, it raises its torso if the objects
+would hide a pointing arm from its camera (`watch_view`), and watches from there.
+Outputs: `hsr_desired_state` ([q; v] of COMMANDED_JOINTS: the motion under way, else where it
+stands; the ready posture before any), `gripper_desired_opening`, `cycle` (the record),
+`plan_view` (PlanView: what the plans show in the replay) and `watching` (1 while the cycle
+watches for a request, else 0: the perception that serves only the watch rests, see
+`systems.watching`).
+
+While the robot lifts and carries, it watches for a correction itself: an `IntentTracker`
+that takes over from the intent estimator's (`IntentTracker.correcting`) judges the frames
+the supervisor reads anyway (one in three), the objects where last seen, until the person asks
+for another object (`Percepts.correction`). The estimator, kept awake for it, had the camera
+render every frame while the robot acted.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+
+import numpy as np
+from pydrake.common.value import AbstractValue
+from pydrake.systems.framework import BasicVector, Context, LeafSystem, State
+
+from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY, HEAD_JOINTS
+from hsr_handover.interface.coco18 import keypoint_index
+from hsr_handover.robot.effectivity.arm_map import ArmEffectivity
+from hsr_handover.robot.effectivity.person_map import RECEIVING_SIDES, HumanArm, receiving_arms
+from hsr_handover.robot.handover.cycle import Cycle, HandoverCycle, Motion, Percepts, Phase
+from hsr_handover.robot.handover.gaze import look_at
+from hsr_handover.robot.handover.look_round import (
+    LOOK_AROUND_PANS,
+    LOOK_DWELL_S,
+    LOOK_ROUND_S,
+    LOOK_ROUND_TILT,
+    look_round_pan,
+)
+from hsr_handover.robot.handover.perceived_planner import PerceivedPlanner, pads_centre
+from hsr_handover.robot.handover.plan_view import PlanView
+from hsr_handover.robot.handover.scene_memory import remember
+from hsr_handover.robot.handover.watch_view import WatchView
+from hsr_handover.robot.intent import IntentParams, IntentState, IntentTracker
+from hsr_handover.robot.perception.facing import SteadyFacing
+from hsr_handover.robot.perception.object_detection import DetectionResult
+from hsr_handover.robot.perception.skeleton import Skeleton
+from hsr_handover.robot.planning.perceived_scene import PerceivedScene
+from hsr_handover.robot.systems.watching import WATCHING
+
+TICK_S = 0.1  # s between the supervisor's decisions
+PAN, TILT = (COMMANDED_JOINTS.index(joint) for joint in HEAD_JOINTS)
+BODY_ROWS = [row for row, joint in enumerate(COMMANDED_JOINTS) if joint not in HEAD_JOINTS]
+VIEW_AFTER_S = LOOK_DWELL_S * len(LOOK_AROUND_PANS)
+"""s: where to watch from is first weighed as the look round turns back to where it began,
+the objects on both sides seen (a raise of 0.6 m then ends by about 5 s), and again whenever
+another object comes into view until a request is recognised."""
+
+
+@dataclasses.dataclass
+class _Memory:
+    """What the supervisor carries between ticks: the cycle, the person's arms as last seen
+    with both shoulders, the way their torso faces (voted over the watch's frames: later, the
+    robot's own arm comes between the camera and the chest), the head's aim, the scene
+    with what is out of view remembered, and where it watches from."""
+
+    cycle: HandoverCycle
+    arms: tuple[HumanArm, ...] = ()
+    facing: SteadyFacing = dataclasses.field(default_factory=SteadyFacing)
+    head: tuple[float, float] | None = None  # (pan, tilt) rad while the cycle looks at a point
+    scene: PerceivedScene | None = None
+    view: WatchView = dataclasses.field(default_factory=WatchView)  # where it watches from
+    correcting: IntentTracker | None = None  # watching for a correction, once it has lifted
+
+
+class HandoverSupervisor(LeafSystem):
+    """Steps the handover cycle on the robot's percepts and commands the HSR."""
+
+    def __init__(
+        self,
+        arm_map: ArmEffectivity,
+        ready_state: np.ndarray,
+        ready_opening: float,
+        intent_params: IntentParams | None = None,
+    ):
+        super().__init__()
+        self._intent_params = IntentParams() if intent_params is None else intent_params
+        self._planner = PerceivedPlanner(arm_map)
+        self._robot = self._planner.robot
+        self._rows = np.array([self._robot.index(joint) for joint in COMMANDED_JOINTS])
+        self._ready = np.asarray(ready_state, dtype=float)
+        self._ready_opening = float(ready_opening)
+        n = len(COMMANDED_JOINTS)
+        self._state = self.DeclareVectorInputPort("hsr_state_measured", 2 * n)
+        self._opening = self.DeclareVectorInputPort("gripper_opening_measured", 1)
+        self._wrench = self.DeclareVectorInputPort("hsr_wrist_wrench_measured", 6)
+        self._intent = self.DeclareAbstractInputPort("intent", AbstractValue.Make(IntentState()))
+        self._scene = self.DeclareAbstractInputPort(
+            "perceived_scene", AbstractValue.Make(PerceivedScene(None))
+        )
+        self._skeleton = self.DeclareAbstractInputPort(
+            "skeleton", AbstractValue.Make(Skeleton.missing("not read"))
+        )
+        self._detections = self.DeclareAbstractInputPort(
+            "detections", AbstractValue.Make(DetectionResult((), "not read"))
+        )
+        # Optional: the GazeController's move; unconnected, the head holds the ready posture's.
+        self._gaze = self.DeclareVectorInputPort("head_command", 4)
+        memory = _Memory(HandoverCycle(self._planner))
+        self._memory = self.DeclareAbstractState(AbstractValue.Make(memory))
+        # Evaluated at each plant step: streamed at 100 Hz instead (a discrete state), the
+        # 10 ms steps in the commanded fingers and arm shook held objects loose.
+        self.DeclareVectorOutputPort("hsr_desired_state", 2 * n, self._calc_state)
+        self.DeclareVectorOutputPort("gripper_desired_opening", 1, self._calc_opening)
+        self.DeclareAbstractOutputPort(
+            "cycle", lambda: AbstractValue.Make(Cycle()), self._calc_cycle
+        )
+        self.DeclareAbstractOutputPort(
+            "plan_view", lambda: AbstractValue.Make(PlanView()), self._calc_plan_view
+        )
+        # From the state alone: the perception it gates feeds this system's inputs.
+        self.DeclareVectorOutputPort(
+            WATCHING, 1, self._calc_watching,
+            prerequisites_of_calc={self.abstract_state_ticket(self._memory)},
+        )  # fmt: skip
+        self.DeclarePeriodicUnrestrictedUpdateEvent(TICK_S, 0.0, self._tick)
+
+    def _memory_of(self, context: Context) -> _Memory:
+        return context.get_abstract_state(self._memory).get_value()
+
+    def _tick(self, context: Context, state: State) -> None:
+        memory: _Memory = state.get_mutable_abstract_state(self._memory).get_value()
+        skeleton = self._skeleton.Eval(context)
+        if memory.cycle.cycle.phase is Phase.WATCH:
+            memory.facing = memory.facing.add(skeleton.torso_forward)
+        arms = receiving_arms([skeleton], memory.facing.direction())
+        memory.arms = arms or memory.arms
+        memory.scene = remember(memory.scene, self._scene.Eval(context))
+        if context.get_time() >= VIEW_AFTER_S:
+            self._raise_view(context, skeleton, memory)
+        if context.get_time() < LOOK_ROUND_S:  # it looks round before it acts
+            return
+        self._planner.perceive(memory.scene, memory.arms)
+        percepts = self._percepts(context, skeleton, arms, memory)
+        memory.cycle.step(percepts)
+        point = memory.cycle.gaze()
+        if point is None:
+            point = self._target_unseen(memory)
+        memory.head = None if point is None else look_at(self._robot, percepts.q, point)
+
+    def _target_unseen(self, memory: _Memory) -> np.ndarray | None:
+        """Where the object asked for was last seen, while the cycle waits to see it before it
+        plans its grasp (`HandoverCycle.seeing`); else None."""
+        label = memory.cycle.seeing()
+        if label is None or memory.scene is None:
+            return None
+        shapes = [shape.centroid for shape in memory.scene.objects if shape.label == label]
+        return shapes[0] if shapes else None
+
+    def _correction(self, context: Context, skeleton, memory: _Memory) -> str | None:
+        """Another object the person asks for while the robot lifts or carries one (None
+        before it lifts, once it has heeded one, and while none is asked for)."""
+        cycle = memory.cycle.cycle
+        if cycle.phase not in (Phase.LIFT, Phase.CARRY) or cycle.first_target is not None:
+            return None
+        if memory.correcting is None:
+            intent = self._intent.Eval(context)
+            memory.correcting = IntentTracker.correcting(intent, self._intent_params)
+        known = {label for label, _ in memory.correcting.state_.objects}
+        seen = [(d.label, d.center) for d in self._detections.Eval(context).detections
+                if d.label in known and np.all(np.isfinite(d.center))]  # fmt: skip
+        state = memory.correcting.update(
+            context.get_time(), skeleton.points, skeleton.confidence, seen, skeleton.torso_forward
+        )
+        return state.correction
+
+    def _raise_view(self, context: Context, skeleton, memory: _Memory) -> None:
+        """Raise the torso if the objects would hide a pointing arm (`WatchView.weigh`), only
+        while it watches for a request."""
+        if memory.cycle.cycle.target is not None or not memory.view.settled(context.get_time()):
+            return
+        objects = memory.scene.objects if memory.scene is not None else ()
+        raised = memory.view.weigh(context.get_time(), self._robot, self._measured(context),
+                                   skeleton.points, skeleton.confidence, objects,
+                                   functools.partial(self._plan_raise, memory))  # fmt: skip
+        if raised is not None:
+            memory.cycle.wait_until(raised.end)  # the grasp plans from the view reached
+
+    def _plan_raise(self, memory: _Memory, q: np.ndarray, posture: np.ndarray) -> Motion | None:
+        """The planner's motion to the posture it watches from, None if it finds none."""
+        self._planner.perceive(memory.scene, memory.arms)
+        planned = self._planner.posture(q, posture)
+        return planned.motions[0][1] if planned.ok else None
+
+    def _measured(self, context: Context) -> np.ndarray:
+        """The HSR's measured positions (plant order), also set in the planner's robot."""
+        measured = self._state.Eval(context)[: len(COMMANDED_JOINTS)]
+        opening = float(self._opening.Eval(context)[0])
+        self._robot.set_positions(dict(zip(COMMANDED_JOINTS, measured, strict=True))
+                                  | {GRIPPER_KEY: opening})  # fmt: skip
+        return self._robot.positions()
+
+    def _percepts(
+        self, context: Context, skeleton, arms: tuple[HumanArm, ...], memory: _Memory
+    ) -> Percepts:
+        q = self._measured(context)
+        opening = float(self._opening.Eval(context)[0])
+        target = self._intent.Eval(context).target
+        wanted = memory.cycle.cycle.target or target  # what it is fetching, once it has begun
+        seen = None
+        for detection in self._detections.Eval(context).detections:
+            if detection.label == wanted and np.all(np.isfinite(detection.center)):
+                seen = np.asarray(detection.center, dtype=float)
+        side = memory.cycle.cycle.receiving or RECEIVING_SIDES[0]
+        arm = next((arm for arm in arms if arm.side == side), None)
+        person = _person_point(skeleton, arm)
+        palm_pose = self._planner.palm_pose(q)
+        palm = pads_centre(palm_pose)
+        commanded, _, _ = memory.cycle.command(context.get_time())
+        pull = (
+            0.0
+            if commanded is None
+            else float(np.linalg.norm(palm - self._planner.palm(commanded)))
+        )
+        wrist_force = palm_pose.rotation() @ self._wrench.Eval(context)[3:]
+        return Percepts(context.get_time(), q, opening, target, seen, _wrist(skeleton, side), palm,
+                        person, float(pull), wrist_force, _face(skeleton),
+                        self._correction(context, skeleton, memory))  # fmt: skip
+
+    def _calc_state(self, context: Context, output: BasicVector) -> None:
+        time = context.get_time()
+        memory = self._memory_of(context)
+        q, v, _ = memory.cycle.command(time)
+        if q is None:
+            command = self._resting(memory, time)
+        else:
+            command = np.concatenate([q[self._rows], v[self._rows]])
+        n = len(COMMANDED_JOINTS)
+        if memory.head is not None:
+            command[[PAN, TILT, n + PAN, n + TILT]] = [*memory.head, 0.0, 0.0]
+        elif time < LOOK_ROUND_S:
+            command[[PAN, n + PAN]] = look_round_pan(time, self._ready[PAN]), 0.0
+            if self._gaze.HasValue(context):  # the table, whatever its height
+                command[[TILT, n + TILT]] = LOOK_ROUND_TILT, 0.0
+        elif self._gaze.HasValue(context):
+            command[[PAN, TILT, n + PAN, n + TILT]] = self._gaze.Eval(context)
+        output.SetFromVector(command)
+
+    def _resting(self, memory: _Memory, time: float) -> np.ndarray:
+        """The command while the cycle moves nothing: the ready posture, or the posture it
+        watches from (the move to it as planned, base and arm; the head looks round)."""
+        command = self._ready.copy()
+        if memory.view.raised is not None:
+            q, v = memory.view.raised.state(time)
+            n, rows = len(COMMANDED_JOINTS), BODY_ROWS  # the head is the watcher's
+            command[rows] = q[self._rows[rows]]
+            command[[n + row for row in rows]] = v[self._rows[rows]]
+        return command
+
+    def _calc_opening(self, context: Context, output: BasicVector) -> None:
+        cycle = self._memory_of(context).cycle
+        if cycle.cycle.phase is Phase.WATCH:
+            output.SetFromVector([self._ready_opening])
+            return
+        output.SetFromVector([cycle.gripper])
+
+    def _calc_watching(self, context: Context, output: BasicVector) -> None:
+        watching = self._memory_of(context).cycle.cycle.phase is Phase.WATCH
+        output.SetFromVector([1.0 if watching else 0.0])
+
+    def _calc_cycle(self, context: Context, output: AbstractValue) -> None:
+        memory = self._memory_of(context)
+        lift = 0.0 if memory.view.raised is None else memory.view.raised.lift
+        output.set_value(dataclasses.replace(memory.cycle.cycle, watch_lift=lift))
+
+    def _calc_plan_view(self, context: Context, output: AbstractValue) -> None:
+        output.set_value(self._memory_of(context).cycle.view)
+
+
+_WRISTS = {side: keypoint_index(f"{side}_wrist") for side in RECEIVING_SIDES}
+_UPPER_BODY = tuple(keypoint_index(name) for name in ("neck", "r_shoulder", "l_shoulder"))
+_FACE = tuple(keypoint_index(name) for name in ("nose", "r_eye", "l_eye", "r_ear", "l_ear"))
+
+
+def _keypoint(skeleton, index: int) -> np.ndarray | None:
+    """The keypoint `index` (m, world), None when not seen."""
+    if skeleton is None or skeleton.confidence[index] <= 0:
+        return None
+    point = skeleton.points[index]
+    return point if np.all(np.isfinite(point)) else None
+
+
+def _wrist(skeleton, side: str) -> np.ndarray | None:
+    """The receiving wrist on `side` ("r" or "l"; m, world), None when not seen."""
+    return _keypoint(skeleton, _WRISTS[side])
+
+
+def _first_seen(skeleton, indices: tuple[int, ...]) -> np.ndarray | None:
+    seen = (_keypoint(skeleton, index) for index in indices)
+    return next((point for point in seen if point is not None), None)
+
+
+def _face(skeleton) -> np.ndarray | None:
+    """A point of the person's face seen now (the nose, an eye or an ear), None if none is."""
+    return _first_seen(skeleton, _FACE)
+
+
+def _person_point(skeleton, arm: HumanArm | None) -> np.ndarray | None:
+    """A point on the person seen now: the receiving arm's shoulder, or else the neck or a
+    shoulder (presenting to a standing person at their chest, the robot's arm hides one
+    shoulder from its camera, and the arm's frame needs both); None when none is seen."""
+    if arm is not None:
+        return arm.shoulder
+    return _first_seen(skeleton, _UPPER_BODY)
