@@ -14,7 +14,8 @@ import pytest
 from hsr_handover.cli import _print_cycle, _ProgressBar
 from hsr_handover.experiments.reporting import format_value
 from hsr_handover.robot.handover.cycle import Cycle, Phase
-from tests.conftest import SCENARIOS, meshcat_commands
+from tests.meshcat_html import meshcat_commands
+from tests.paths import SCENARIOS
 
 FULL_BAR = "[" + "#" * 30 + "]"
 

@@ -1,0 +1,104 @@
+"""A path from a start already nearer than the bound: only the obstacles the
+start touches may stay that near over the path's first stretch; every other keeps the bound
+(a carry starting inside the held box's second detection would pass it 7 cm through a
+neighbouring cup under one allowance for all)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from hsr_handover.hsr import BASE_JOINTS
+from hsr_handover.robot.perception.object_shapes import CYLINDER, ObjectShape
+from hsr_handover.robot.planning import trajectory
+from hsr_handover.robot.planning.perceived_scene import PerceivedScene
+from hsr_handover.robot.planning.planner import DIP_ALLOWANCE, _path, path_dips
+from hsr_handover.robot.planning.planning_scene import PlanningScene
+from hsr_handover.robot.planning.trajectory import (
+    COLLISION_BOUND,
+    ESCAPE_SHARE,
+    ESCAPE_SLACK,
+    StartContact,
+    optimize_path,
+    start_contact,
+)
+from tests.robot.planning.conftest import slid_until
+
+TOUCHING = -0.02  # m: the start is 2 cm inside the pillar beside it
+DENSE = 200
+
+
+def _pillar(label: str, x: float, y: float, radius: float = 0.05) -> ObjectShape:
+    size = np.array([2 * radius, 2 * radius])
+    return ObjectShape(label, CYLINDER, np.array([x, y]), size, 0.0, 0.0, 1.2)
+
+
+@pytest.fixture(scope="module")
+def scene() -> PlanningScene:
+    """Two pillars: one beside the base at its start, one just ahead on its way forward."""
+    pillars = (_pillar("beside", 0.0, 0.4), _pillar("ahead", 0.5, -0.02))
+    return PlanningScene(PerceivedScene(None, pillars))
+
+
+@pytest.fixture(scope="module")
+def start(scene) -> np.ndarray:
+    """The base moved sideways until it is TOUCHING the pillar beside it."""
+    scene.set_positions({})
+    return slid_until(scene, scene.positions(), BASE_JOINTS[1], TOUCHING, (0.0, 0.2), "beside")
+
+
+def _goal(scene, start) -> np.ndarray:
+    goal = start.copy()
+    goal[scene.index(BASE_JOINTS[0])] = 2.0
+    return goal
+
+
+def _least(scene, path, name: str, until: float = 1.0) -> float:
+    times = np.linspace(path.start_time(), path.start_time() + until * (path.end_time() -
+                        path.start_time()), DENSE)  # fmt: skip
+    return min(scene.clearances_at(path.value(t).ravel()).get(name, np.inf) for t in times)
+
+
+def test_the_allowance_is_for_the_obstacles_touched_and_the_first_stretch():
+    contact = StartContact(("table",), -0.04)
+    assert contact.bound("table", 0.0) == pytest.approx(-0.04 - ESCAPE_SLACK)
+    assert contact.bound("table", ESCAPE_SHARE) == pytest.approx(-0.04 - ESCAPE_SLACK)
+    assert contact.bound("table", ESCAPE_SHARE + 0.01) == COLLISION_BOUND
+    assert contact.bound("cup", 0.0) == COLLISION_BOUND
+    # 3 cm into the table at the start is within its allowance; 1 cm near the cup is not.
+    assert contact.dip({"table": -0.03, "cup": 0.05}, 0.1) < 0
+    assert contact.dip({"table": -0.03, "cup": 0.01}, 0.1) == pytest.approx(COLLISION_BOUND - 0.01)
+    assert contact.dip({}, 0.1) == -np.inf
+    assert StartContact().bound("table", 0.0) == COLLISION_BOUND
+
+
+def test_a_start_names_what_it_touches(scene, start):
+    contact = start_contact(scene, start)
+    assert contact.names == ("beside",)
+    assert contact.clearance == pytest.approx(TOUCHING, abs=1e-4)
+    assert start_contact(scene, start, ignore=("beside",)) == StartContact()
+
+
+def test_a_start_touching_one_obstacle_never_licenses_another(scene, start):
+    goal = _goal(scene, start)
+    result = optimize_path(scene, start, goal)
+    assert result.ok, result.reason
+    assert _least(scene, result.path, "ahead") >= COLLISION_BOUND - DIP_ALLOWANCE
+    assert _least(scene, result.path, "beside", ESCAPE_SHARE) >= TOUCHING - ESCAPE_SLACK - 0.012
+    # The planner's check between samples holds it to the same bounds.
+    path, reason = _path(scene, start, goal, (), straight=False)
+    assert path is not None, reason
+    dips = path_dips(scene, path, (), start_contact(scene, start), DENSE)
+    assert dips.max() <= DIP_ALLOWANCE
+
+
+def test_one_allowance_for_every_obstacle_would_cut_through_the_one_ahead(
+    scene, start, monkeypatch
+):
+    """The scene discriminates: granted to both pillars, the start's allowance lets the
+    shortest path clip the pillar ahead."""
+    both = StartContact(("ahead", "beside"), TOUCHING)
+    monkeypatch.setattr(trajectory, "start_contact", lambda *_: both)
+    result = optimize_path(scene, start, _goal(scene, start))
+    assert result.ok, result.reason
+    assert _least(scene, result.path, "ahead") < 0
