@@ -39,14 +39,14 @@ from hsr_handover.experiments.intent.trials import make_trials
 from hsr_handover.experiments.trials import TrialProgress, run_trials
 from hsr_handover.interface.coco18 import NUM_KEYPOINTS, keypoint_index
 from hsr_handover.robot.intent import IntentParams
-from hsr_handover.robot.intent.rays import Ray, angle_deg, elbow_angle_deg, heading_elevation
-from hsr_handover.robot.intent.tracker import (
+from hsr_handover.robot.intent.person_rays import (
     ARMS,
     face_ray,
     gaze_ray,
     pitch_errors_deg,
     torso_forward,
 )
+from hsr_handover.robot.intent.rays import Ray, angle_deg, elbow_angle_deg, heading_elevation
 from hsr_handover.robot.perception.active_gaze import wrap
 from hsr_handover.robot.perception.facing import SteadyFacing
 from hsr_handover.scenario import load_scenario

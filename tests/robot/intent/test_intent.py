@@ -11,35 +11,37 @@ import pytest
 
 from hsr_handover.interface.coco18 import keypoint_index
 from hsr_handover.robot.intent import IntentParams, IntentTracker, Ray, elbow_angle_deg, face_normal
-from hsr_handover.robot.intent.rays import (
-    heading_elevation,
-    ray_distances,
-    tilt_down,
-    unit_direction,
-)
-from hsr_handover.robot.intent.tracker import (
+from hsr_handover.robot.intent.judging import (
     ARM_MOVING,
     GAZE_ELSEWHERE,
-    L_EYE,
     NO_CANDIDATES,
     NO_FACE,
     NO_POINTING,
     NO_SKELETON,
     NOTHING_POINTED_AT,
     POINTING,
-    R_EYE,
     RECOGNISED,
     Observation,
-    RaySmoother,
-    bearing_errors_deg,
-    gaze_ray,
     judge,
     judge_frame,
     observe,
+)
+from hsr_handover.robot.intent.person_rays import (
+    L_EYE,
+    R_EYE,
+    bearing_errors_deg,
+    gaze_ray,
     pitch_errors_deg,
     pitch_tolerance_deg,
     torso_forward,
 )
+from hsr_handover.robot.intent.rays import (
+    heading_elevation,
+    ray_distances,
+    tilt_down,
+    unit_direction,
+)
+from hsr_handover.robot.intent.smoothing import RaySmoother
 from hsr_handover.world.person.aiming import pointing_arm_angles
 from hsr_handover.world.person.behavior import reaching_arm_angles
 from tests.robot.intent.synthetic_person import BODY, CUPS, TRUE_FACE_TILT, keypoints, to_person

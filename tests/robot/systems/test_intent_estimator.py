@@ -11,7 +11,7 @@ import pytest
 from pydrake.systems.analysis import Simulator
 
 from hsr_handover.robot.intent import IntentParams
-from hsr_handover.robot.intent.tracker import ARM_MOVING
+from hsr_handover.robot.intent.judging import ARM_MOVING
 from hsr_handover.robot.perception.cross_check import DetectionSupport
 from hsr_handover.robot.perception.object_detection import Detection, DetectionResult
 from hsr_handover.robot.perception.skeleton import Skeleton
