@@ -445,12 +445,12 @@ class SimulationConfig:
 class LayoutsConfig:
     """The ranges `--layouts generated` draws each experiment trial's layout from (uniformly,
     each [low, high]; `hsr_handover.experiments.layouts`). The table stands with its near edge
-    0.55 m before the robot's nominal base; the person across it, `person_back` m beyond its
-    far edge (the point below the hips), `person_along` m to the side of the table's axis,
-    turned `facing_deg` off facing it, seated or (with `standing_probability`) standing;
-    3-6 cups and boxes in distinct detector colours, in a row across the table or staggered
-    (`staggered_probability`), `object_spacing` m apart; the robot's base moved by
-    `base_offset` m along each axis and turned by `base_yaw` rad.
+    `layouts.NEAR_EDGE` (0.65 m) before the robot's nominal base; the person across it,
+    `person_back` m beyond its far edge (the point below the hips), `person_along` m to the side
+    of the table's axis, turned `facing_deg` off facing it, seated or (with
+    `standing_probability`) standing; 3-6 cups and boxes in distinct detector colours, in a row
+    across the table or staggered (`staggered_probability`), `object_spacing` m apart; the
+    robot's base moved by `base_offset` m along each axis and turned by `base_yaw` rad.
 
     Ranges: a scenario may only narrow them: each [low, high] with low <= high inside the
     defaults (person_height [1.5, 1.95] m, person_back [0.3, 0.6] m, person_along

@@ -39,14 +39,14 @@ class TrialScore:
     when the robot (or the object it carried) first touched the table, the person, and each
     other object (`knocked`; the judge leaves out any that were picked up), when the person
     first touched each object before the robot had lifted it (`person_knocked`: the world's
-    doing, not the robot's; a pointing hand on the object asked for pushed it over, the moved
-    layout's trial 57 of seed 2), when the person's hand closed on the target (`gripped`), and
-    the least clearance from the robot and its load to the table and to the person's body (m;
-    the hands are left out: touching one is a contact, and a hand comes close to take the
-    object); and, for every other object the robot lifted (and should have put back), how far
-    above where it stood it was last seen (`set_down`, m: about 0 when put back standing; a
-    box down on its side reads 3 cm below); and the most the robot's perceived table top was
-    off the true one's height (`table_height_error`, m; NaN if it never perceived one)."""
+    doing, not the robot's, as when a pointing hand on the object asked for pushes it over),
+    when the person's hand closed on the target (`gripped`), and the least clearance from the
+    robot and its load to the table and to the person's body (m; the hands are left out:
+    touching one is a contact, and a hand comes close to take the object); and, for every other
+    object the robot lifted (and should have put back), how far above where it stood it was last
+    seen (`set_down`, m: about 0 when put back standing; a box down on its side reads 3 cm
+    below); and the most the robot's perceived table top was off the true one's height
+    (`table_height_error`, m; NaN if it never perceived one)."""
 
     lifted: dict[str, float] = dataclasses.field(default_factory=dict)
     dropped: float = math.nan

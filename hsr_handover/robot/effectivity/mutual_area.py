@@ -30,8 +30,7 @@ AWAY_FROM_BODY = 0.10  # m from the body's capsules' surface
 MOST_REACH = 0.9
 """of the arm's full reach: the farthest from the shoulder a handover point may be. The range's
 edge is the arm at full stretch, and the perceived arm's lengths and shoulder are a few cm off
-(the moved layout's trial 3 of seed 2: a cup held at 0.89 of the perceived reach was 8 mm beyond
-the person's)."""
+(a cup held at 0.89 of the perceived reach can end 8 mm beyond the person's)."""
 SIDE_TURNS_DEG = (0.0, 30.0, 60.0)  # the aims, turned from straight ahead toward the arm's side
 
 

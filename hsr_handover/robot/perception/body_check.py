@@ -1,12 +1,11 @@
 """Lifted keypoints that no body could hold: each pair of keypoints lies at most as far apart
 as the bones between them are long, for the tallest person, plus the lifting's slack.
 
-A keypoint's pixel on an occluding edge is lifted onto whatever is nearer there (the quarter
-of the depth window nearest the camera is taken, so that a limb is not lost to the background
-behind it). Seen past the robot's own arm, a shoulder was lifted onto the arm, 75 cm from the
-neck (the staggered layout's trial 11 of seed 1): the person's frame turned 65 degrees and their
-reach doubled. Such a keypoint disagrees with most of the others; it is dropped, one at a time,
-the worst first, until the rest agree.
+A keypoint's pixel on an occluding edge is lifted onto whatever is nearer there (the quarter of
+the depth window nearest the camera is taken, so that a limb is not lost to the background
+behind it). Seen past the robot's own arm, a shoulder can be lifted onto the arm, 75 cm from the
+neck: the person's frame turns 65 degrees and their reach doubles. Such a keypoint disagrees
+with most of the others; it is dropped, one at a time, the worst first, until the rest agree.
 """
 
 from __future__ import annotations

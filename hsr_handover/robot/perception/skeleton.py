@@ -40,8 +40,8 @@ NONE_DETECTED = "no keypoints detected"
 DEPTH_PERCENTILE = 25.0
 # The depth a keypoint the body check dropped is lifted with again: its window's far quarter.
 # A keypoint seen beside something nearer (a face beside the hand pointing past it, 60 cm in
-# front: the intent reference's trial 46) is lifted onto that by the near quarter; its own
-# surface is the farther part of the window.
+# front) is lifted onto that by the near quarter; its own surface is the farther part of the
+# window.
 RELIFT_PERCENTILE = 75.0
 # Half-size of the depth window a keypoint is lifted from: the window survives a pixel
 # that slips off a limb's edge onto the background or a depth hole.

@@ -194,7 +194,7 @@ class TableMap:
         which the camera looked up at a standing person, the top out of view, each gave the
         fullest level of the person (0.9 to 1.2 m), and over a long trial they outnumbered
         the frames of the table: the top rose 9 cm by 29 s and the planner drove the base
-        into the table's leg (the standing layout's trial 45 of seed 3). A frame of the table
+        into the table's leg. A frame of the table
         sees 1,000 to 3,700 cells at its height, one of a person 50 to 250."""
         if not self.heights_:
             return math.nan

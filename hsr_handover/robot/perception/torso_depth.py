@@ -1,17 +1,15 @@
 """A shoulder hidden behind its own arm takes its depth from the torso.
 
 An arm pointing at the camera covers its shoulder: OpenPose still finds the shoulder's pixel,
-but the depth there is the arm's. In the intent experiment at seed 1, trial 4, a right shoulder
-read 24 cm in front of the neck (inside `body_check`'s slack), then was dropped for a second
-when the re-lift found only arm; its shoulder-wrist ray was lost and the request went
-unrecognised. The neck lies halfway between the shoulders, in depth as across the body, so a
-shoulder with no depth, or nearer the camera than the other shoulder's mirror image through the
-neck by more than SHOULDER_DEPTH_TOLERANCE_M, is given that mirror depth along its own pixel's
-ray. Its pixel is kept: only the depth was hidden.
+but the depth there is the arm's: a right shoulder can read 24 cm in front of the neck (inside
+`body_check`'s slack), then be dropped for a second when the re-lift finds only arm, and the
+shoulder-wrist ray is lost. The neck lies halfway between the shoulders, in depth as across the
+body, so a shoulder with no depth, or nearer the camera than the other shoulder's mirror image
+through the neck by more than SHOULDER_DEPTH_TOLERANCE_M, is given that mirror depth along its
+own pixel's ray. Its pixel is kept: only the depth was hidden.
 
-In the intent reference (seed 0) this read trial 46's centre cup right (the blue one before);
-at seed 1, 57 of 60 requests against 56. With the intent's own mirror for a shoulder OpenPose
-misses outright (`intent.tracker.shoulder_point`), both runs read all 60.
+The intent's own mirror for a shoulder OpenPose misses outright is
+`robot.intent.person_rays.shoulder_point`.
 """
 
 from __future__ import annotations

@@ -7,8 +7,8 @@ a candidate; those whose base (arm folded up) stays clear of the table, the obje
 person are tried, the reach nearest PREFERRED_REACH first. A vertical approach leaves the
 base's heading free: it faces the object from where the robot stands, or, `turned`, stands
 round it (ROUND_TURNS_DEG), which reaches an object deep in a table from the table's nearer
-side (the staggered layout's trial 11 of seed 1: a box 35 cm in from the near edge and 8 cm
-from the side, out of reach from the near side). The arm's seed is eq. 11's walk on
+side (a box 35 cm in from the near edge and 8 cm from the side is out of reach from the near
+side). The arm's seed is eq. 11's walk on
 the map for the palm's position; the map knows positions only, so the hand's orientation is
 then the grasp's: no roll, the wrist flexed to the approach's pitch, the wrist rolled to the
 closing axis.

@@ -3,8 +3,7 @@ else at the nearest point round it where it does, beside the perceived hand.
 
 The perceived forearm's capsule runs on a hand's length past the wrist and is widened by the
 skeleton's error, so an object brought along the forearm's line to the fingers is inside it and
-no inverse kinematics is found (the handover reference run's trial 53 tried every second for
-12 s).
+no inverse kinematics is found (the robot would try every second until it gives up).
 """
 
 from __future__ import annotations

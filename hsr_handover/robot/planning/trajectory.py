@@ -90,8 +90,7 @@ class Target:
     keep COLLISION_BOUND from) and the least distance (m) kept from it all the way, `bound`:
     the goal's own, where the pads straddle it, less ESCAPE_SLACK, and no more than
     COLLISION_BOUND. Left out altogether, an approach that the optimiser bent round a
-    neighbour swept a pad 3 cm into the box it was going to grasp, and knocked it over (the
-    standing layout's trial 1, seed 2)."""
+    neighbour can sweep a pad 3 cm into the box it is going to grasp and knock it over."""
 
     name: str
     bound: float
@@ -204,8 +203,8 @@ def _build(
     points = trajopt.control_points()
     held = [scene.index(joint) for joint in HEAD_JOINTS]
     # The fingers go where the gripper is commanded, not where a path would have them: left
-    # free, the optimiser half shut them to pass a table's edge that the open fingers then cut
-    # 2 cm into (the standing layout's trial 7, seed 1). They stay between start and goal.
+    # free, the optimiser half shuts them to pass a table's edge that the open fingers then cut
+    # 2 cm into. They stay between start and goal.
     fingers = [scene.index(joint) for joint in (GRIPPER_JOINT, GRIPPER_MIMIC_JOINT)]
     low = np.minimum(q_start[fingers], q_goal[fingers])
     high = np.maximum(q_start[fingers], q_goal[fingers])

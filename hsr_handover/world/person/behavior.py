@@ -43,8 +43,8 @@ LIFT_SHARE = 0.5
 OVER_TABLE = 0.02
 """m a seated person's resting hands keep over the table's top. Forearms resting level sit at
 0.70-0.76 m, under the top of a high table (0.80 m): a hand whose tip rested a few cm from the
-table's edge met the edge as the arm swung out, and stayed there for the whole gesture (the
-staggered layout's trials 39 and 43 of seed 1 never pointed). At such a table the forearms rest
+table's edge met the edge as the arm swung out, and stayed there for the whole gesture: the
+person never pointed. At such a table the forearms rest
 tilted up, the elbows bent further, as people hold their hands over a table's edge; and where
 the elbow would still be under the top, the upper arm comes forward until it is over it (the
 forearms rest on the table): a 1.55 m person seated at a 0.77 m table, elbow under the top and
@@ -54,8 +54,7 @@ RAISE_STEP = 0.1  # rad: the elbow (or the shoulder) turns by steps of this
 WITHDRAW_ELBOW = -1.6
 """rad: a pointing hand held over an object is drawn back by bending the elbow this far (the
 forearm about square to the upper arm) before the arm lowers: lowered straight from the point
-to rest, it swept through the object it had pointed over and knocked it down (the moved
-layout's trial 57 of seed 2, the staggered layout's trial 21 of seed 1)."""
+to rest, it sweeps through the object it pointed over and knocks it down."""
 _MIN_JERK_PEAK = 1.875  # peak of d/dtau of the minimum-jerk profile
 
 _INDEX = {name: i for i, name in enumerate(PERSON_JOINTS)}

@@ -2,11 +2,10 @@
 it, they do not lay their hand on it, and they draw the hand back before lowering the arm when
 lowering it straight would sweep the hand through one.
 
-In the moved layout's trial 57 of seed 2, a 1.81 m person's straight arm, aimed at the yellow
-box's middle 0.8 m away, ended on its top edge: the hand pushed it over during the gesture and
-rested beside it, and the robot could not grasp it. In the staggered layout's trial 12 of seed
-1, an arm that pointed clear of the objects swept its hand through the yellow box on its way
-back to rest (the hand's axis 0.5 cm from it)."""
+A 1.81 m person's straight arm aimed at a box's middle 0.8 m away ends on its top edge: the
+hand pushes it over during the gesture and rests beside it, and the robot cannot grasp it. An
+arm that points clear of the objects can still sweep its hand through one on its way back to
+rest (the hand's axis 0.5 cm from it)."""
 
 from __future__ import annotations
 

@@ -44,8 +44,8 @@ ARRIVED = 0.02
 arrives (closing on the way, by its distance to the object, latched the object 5 cm off and
 dragged it up out of the robot's fingers into them), or where it first touches the object on
 the way, and stops there: a hand that strikes what it reaches for closes on it, as people's
-do, rather than shoving it through the robot's fingers (the reference run's trials 25 and 43
-pushed a box out of the fingers before the hand closed)."""
+do, rather than shoving it through the robot's fingers (which pushes a box out of them before
+the hand closes)."""
 SETTLED = 0.002  # m a hand moves between two looks once it has stopped short of the point
 SETTLE_AFTER_S = 0.3  # s into the reach before a hand at rest counts as stopped
 GRIP_DISTANCE = REACH_SHORT + 0.05
@@ -59,8 +59,8 @@ CLEAR = math.hypot(HAND_WIDTH, HAND_THICKNESS) / 2 + 0.025
 """m from the forearm's and hand's axes to the robot's gripper (its capsules): the hand box's
 half diagonal (4.3 cm) and 2.5 cm to spare. The arm follows its move a little off the straight
 line in joint space that is checked, and the finger pads' box corners stand 0.4 cm outside
-their capsules: with 1 cm to spare, a hand planned 6 cm off the axis brushed a finger on its
-way in (the staggered layout's seed 2, trial 11)."""
+their capsules: with 1 cm to spare, a hand planned 6 cm off the axis brushes a finger on its
+way in."""
 TUG_S = 0.3  # s from closing the hand to the tug
 TUG = 0.06
 """m the hand draws back first, the way it came (out of the gripper's free side): the tug a
