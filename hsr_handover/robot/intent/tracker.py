@@ -135,7 +135,7 @@ class IntentTracker:
         clone._keypoints = copy.deepcopy(self._keypoints, memo)
         return clone
 
-    def _steady_forward(self, observation: Observation, chest: np.ndarray | None) -> Observation:
+    def steady_forward(self, observation: Observation, chest: np.ndarray | None) -> Observation:
         """A person at the table turns the head, not the torso: the chest's facing seen most
         often stands for the torso's direction (`perception.chest_plane`; the frames whose arm
         covered the chest are outvoted); until the chest is seen, the shoulders'
@@ -174,7 +174,7 @@ class IntentTracker:
         observed = None
         if frame is None:
             centers = np.array([center for _, center in candidates], dtype=float)
-            seen = self._steady_forward(
+            seen = self.steady_forward(
                 observe(points, confidence, centers, self.params), torso_forward
             )
             observed = self._smoother.smooth(time, seen)

@@ -51,16 +51,19 @@ class WorldBodies:
 
 
 @dataclasses.dataclass
-class _Acting:
+class PersonActing:
+    """What the person is doing: the posture timeline and the parts of their behaviour that
+    react to the robot (taking what it holds out, correcting it, asking again)."""
+
     timeline: PostureTimeline
     receiver: Receiver | None
     corrector: Corrector | None = None
     repeater: Repeater | None = None
 
-    def __deepcopy__(self, memo: dict) -> _Acting:
+    def __deepcopy__(self, memo: dict) -> PersonActing:
         """Drake copies the state at every update: the timeline is never changed once made
         (`interrupted` makes a new one), so the copies share it."""
-        return _Acting(
+        return PersonActing(
             self.timeline,
             copy.deepcopy(self.receiver, memo),
             copy.deepcopy(self.corrector, memo),
@@ -105,7 +108,7 @@ class HumanActor(LeafSystem):
         self._order = np.array([PERSON_JOINTS.index(name) for name in joint_order])
         self._world = world
         self._acting = self.DeclareAbstractState(
-            AbstractValue.Make(_Acting(timeline, receiver, corrector, repeater))
+            AbstractValue.Make(PersonActing(timeline, receiver, corrector, repeater))
         )
         self.DeclareVectorOutputPort(
             "person_desired_state", 2 * len(self._order), self._calc_desired_state
@@ -122,7 +125,7 @@ class HumanActor(LeafSystem):
             self.DeclarePeriodicUnrestrictedUpdateEvent(RECEIVING_PERIOD, 0.0, self._react)
 
     def _react(self, context: Context, state: State) -> None:
-        acting: _Acting = state.get_mutable_abstract_state(self._acting).get_value()
+        acting: PersonActing = state.get_mutable_abstract_state(self._acting).get_value()
         world, poses = self._world, self._poses.Eval(context)
         X_PW = world.X_WP.inverse()
         objects = {name: X_PW @ poses[index].translation()
@@ -153,6 +156,11 @@ class HumanActor(LeafSystem):
         timeline = context.get_abstract_state(self._acting).get_value().timeline
         q, v = timeline.evaluate(context.get_time())
         output.SetFromVector(np.concatenate([q[self._order], v[self._order]]))
+
+    def acting(self, context: Context) -> PersonActing:
+        """The person's behaviour in `context` (for scoring and tests; the robot reads only
+        the station's sensor ports)."""
+        return context.get_abstract_state(self._acting).get_value()
 
     def _calc_repeated_at(self, context: Context, output: BasicVector) -> None:
         repeater = context.get_abstract_state(self._acting).get_value().repeater

@@ -416,7 +416,7 @@ def test_the_torso_direction_is_the_mean_of_the_resting_frames():
         jittered = points.copy()
         jittered[r, 0] += skew
         tracker.update(time, jittered, confidence, CUPS)
-    steady = tracker._steady_forward(Observation(), None)
+    steady = tracker.steady_forward(Observation(), None)
     np.testing.assert_allclose(steady.forward, [-1.0, 0.0, 0.0], atol=1e-9)
 
 
@@ -430,14 +430,14 @@ def test_the_chests_facing_outranks_the_shoulders():
     for time, chest in ((0.0, None), (0.1, turned), (0.2, np.full(3, np.nan))):
         state = tracker.update(time, points, confidence, CUPS, chest)
         assert not state.frame.pointing  # no arm points: the torso is taken from every frame
-    np.testing.assert_allclose(tracker._steady_forward(Observation(), None).forward, turned)
+    np.testing.assert_allclose(tracker.steady_forward(Observation(), None).forward, turned)
     centers = np.array([center for _, center in CUPS])
     face = observe(points, confidence, centers, IntentParams()).face
     expected = gaze_ray(face, turned, IntentParams())
     np.testing.assert_allclose(state.frame.gaze.direction, expected.direction, atol=1e-9)
     shoulders_only = IntentTracker(IntentParams())
     shoulders_only.update(0.0, points, confidence, CUPS)
-    forward = shoulders_only._steady_forward(Observation(), None).forward
+    forward = shoulders_only.steady_forward(Observation(), None).forward
     np.testing.assert_allclose(forward, [-1.0, 0.0, 0.0], atol=1e-9)
 
 

@@ -55,7 +55,7 @@ def test_a_copied_state_has_its_own_receiver():
     actor = HumanActor(_timeline(), PERSON_JOINTS, Receiver(BODY, ReceivingParams()), world)
     context = actor.CreateDefaultContext()
     copied = context.Clone()
-    copied.get_mutable_abstract_state(0).get_mutable_value().receiver.grip = "cup"
+    actor.acting(copied).receiver.grip = "cup"
     assert actor.GetOutputPort("grip").Eval(copied) == "cup"
     assert actor.GetOutputPort("grip").Eval(context) == ""
 
@@ -93,7 +93,7 @@ def test_the_person_asks_again_when_the_robot_lifts_another_object():
     place(0.1)  # the robot lifts the red cup
     simulator.AdvanceTo(3.0)
     np.testing.assert_allclose(output.Eval(context)[: len(PERSON_JOINTS)], pointing, atol=1e-6)
-    state = context.get_abstract_state(0).get_value()
+    state = actor.acting(context)
     assert state.corrector.corrected_at == pytest.approx(0.55, abs=0.051)
 
 
@@ -127,7 +127,7 @@ def test_the_person_asks_again_when_the_robots_hand_stays_still(moves: bool):
     output = actor.GetOutputPort("person_desired_state").Eval(context)[: len(PERSON_JOINTS)]
     expected = np.zeros(len(PERSON_JOINTS)) if moves else pointing
     np.testing.assert_allclose(output, expected, atol=1e-6)
-    state = context.get_abstract_state(0).get_value()
+    state = actor.acting(context)
     assert (state.repeater.repeated_at is None) is moves
     assert state.repeater.answered is moves
 
