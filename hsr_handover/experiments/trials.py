@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import multiprocessing
 import os
+import socket
 import time
 from collections.abc import Callable, Iterable
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
@@ -260,12 +261,32 @@ def _import_ray() -> Any:
     return ray
 
 
+RAY_CONNECT_TIMEOUT_S = 5.0
+"""s to wait for the cluster's address to answer: Ray itself retries an address where nothing
+listens for minutes."""
+
+
+def _check_reachable(address: str) -> None:
+    """Raise ClusterUnavailable at once when nothing answers at `address` ("host:port" or
+    "ray://host:port"; other forms, such as "auto", are left to Ray)."""
+    target = address.removeprefix("ray://")
+    host, _, port = target.rpartition(":")
+    if not host or not port.isdigit():
+        return
+    try:
+        socket.create_connection((host.strip("[]"), int(port)), RAY_CONNECT_TIMEOUT_S).close()
+    except OSError as error:
+        reason = f"nothing answers at {target} ({error.strerror or error})"
+        raise ClusterUnavailable(f"--ray-address: no Ray cluster at {address}: {reason}") from None
+
+
 def _run_on_ray(
     function: Callable[[Any], Any], specs: list[Any], address: str, tally: _Tally
 ) -> None:
     ray = _import_ray()
     connected_here = not ray.is_initialized()
     if connected_here:
+        _check_reachable(address)
         try:
             ray.init(address=address)
         except ConnectionError as exc:

@@ -153,8 +153,12 @@ def parse_frame(text: str, source: str, keypoint_scale: str = PIXELS) -> RawFram
         )
     try:
         frame = json.loads(text)
-    except json.JSONDecodeError as error:
-        expected = f"expected OpenPose JSON, could not parse it: {error}"
+    except RecursionError:
+        expected = "expected OpenPose JSON, got arrays or objects nested too deeply to read"
+        raise OpenPoseFormatError(source, "", expected, NOT_JSON) from None
+    except ValueError as error:  # malformed, or a number too long for Python to convert
+        reason = str(error).split(";")[0]  # without Python's advice to its programmers
+        expected = f"expected OpenPose JSON, could not parse it: {reason}"
         raise OpenPoseFormatError(source, "", expected, NOT_JSON) from None
     people = frame.get("people") if isinstance(frame, dict) else None
     if not isinstance(people, list):

@@ -34,6 +34,13 @@ from hsr_handover.interface.pinhole import PinholeCamera, valid_depth
 
 CAMERA_INFO = "camera_info.yaml"
 SESSION = "session.yaml"
+SESSION_SECTIONS = {"simulation": ("seed",), "camera": ("rate_hz",), "perception": None,
+                    "intent": None}  # fmt: skip
+"""What a session.yaml may set: the robot's own settings (None: any key of the section). A
+session is read as it was recorded, never the world it was recorded in."""
+PERCEPTION_NOT_IN_SESSION = ("enabled", "attention", "skeleton_recording", "detector")
+"""Perception settings a session leaves out: the world's sensor model, or not the robot's to
+replay (a skeleton recording would also name a file outside the session)."""
 MILLIMETRES = 1000.0  # per metre
 DEPTH_LIMIT_M = 65.535  # the deepest a 16-bit millimetre image holds
 
@@ -135,8 +142,10 @@ class RgbdSession:
 
     def frame(self, k: int) -> SessionFrame:
         name = _name(self.indices[k])
-        color = _read_image(self.directory / "color" / f"{name}.png", cv2.IMREAD_COLOR)
-        depth = _read_image(self.directory / "depth" / f"{name}.png", cv2.IMREAD_ANYDEPTH)
+        folder = self.directory
+        color = _read_image(_inside(folder, folder / "color" / f"{name}.png"), cv2.IMREAD_COLOR)
+        depth_path = _inside(folder, folder / "depth" / f"{name}.png")
+        depth = _read_image(depth_path, cv2.IMREAD_ANYDEPTH)
         if depth.dtype != np.uint16 or depth.shape != color.shape[:2]:
             size = f"{color.shape[1]} x {color.shape[0]}"
             where = self.directory / "depth" / f"{name}.png"
@@ -144,6 +153,14 @@ class RgbdSession:
         rgba = cv2.cvtColor(color, cv2.COLOR_BGR2RGBA)
         metres = depth.astype(np.float32) / np.float32(MILLIMETRES)
         return SessionFrame(self.stamps[k], rgba, metres, self.poses[k], self.keypoints[k])
+
+
+def _inside(directory: Path, path: Path) -> Path:
+    """`path`, after checking that it lies inside the session's folder (a symbolic link that
+    leads out of it is refused: a recording is read, never what it points at elsewhere)."""
+    if not path.resolve().is_relative_to(directory.resolve()):
+        raise SessionError(f"{path}: expected a file inside the session folder {directory}")
+    return path
 
 
 def _read_image(path: Path, flags: int) -> np.ndarray:
@@ -210,8 +227,8 @@ def read_session(directory: Path) -> RgbdSession:
     directory = Path(directory)
     if not (directory / CAMERA_INFO).is_file():
         raise SessionError(f"{directory}: expected a recorded session ({CAMERA_INFO} not found)")
-    camera = read_camera_info(directory / CAMERA_INFO)
-    pose_files = sorted((directory / "pose").glob("*.yaml"))
+    camera = read_camera_info(_inside(directory, directory / CAMERA_INFO))
+    pose_files = [_inside(directory, path) for path in sorted((directory / "pose").glob("*.yaml"))]
     indices = tuple(int(path.stem) for path in pose_files if path.stem.isdigit())
     if not indices:
         raise SessionError(f"{directory / 'pose'}: expected one NNNNNNNNNNNN.yaml per frame")
@@ -222,7 +239,27 @@ def read_session(directory: Path) -> RgbdSession:
     missing = [path for path in keypoint_files if not path.is_file()]
     if missing:
         raise SessionError(f"{missing[0]}: expected the frame's OpenPose keypoints")
+    for path in keypoint_files:
+        _inside(directory, path)
     recording = read_openpose_recording(keypoint_files, image_size=(camera.width, camera.height))
-    settings = _load_yaml(directory / SESSION) if (directory / SESSION).is_file() else {}
+    settings = _read_settings(directory / SESSION) if (directory / SESSION).is_file() else {}
     return RgbdSession(directory, camera, indices, tuple(stamps), tuple(poses),
                        tuple(recording.detections), settings)  # fmt: skip
+
+
+def _read_settings(path: Path) -> dict:
+    """session.yaml, holding only what SESSION_SECTIONS allows (SessionError naming the key)."""
+    settings = _load_yaml(_inside(path.parent, path))
+    for section, values in settings.items():
+        if section not in SESSION_SECTIONS:
+            allowed = ", ".join(SESSION_SECTIONS)
+            raise SessionError(f"{path}: {section}: expected only the robot's settings ({allowed})")
+        keys = SESSION_SECTIONS[section]
+        if not isinstance(values, dict):
+            raise SessionError(f"{path}: {section}: expected a mapping")
+        refused = [key for key in values if (keys is not None and key not in keys)
+                   or (section == "perception" and key in PERCEPTION_NOT_IN_SESSION)]  # fmt: skip
+        if refused:
+            why = "it is the world's, or names a file outside the session"
+            raise SessionError(f"{path}: {section}.{refused[0]}: expected none here ({why})")
+    return settings

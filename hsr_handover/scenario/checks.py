@@ -49,6 +49,7 @@ GRIPPER_MAX_WIDTH = round(
     GRIPPER_MAX_OPENING - 0.017, 3
 )  # m: what the gripper closes around, with margin
 PAYLOAD = 1.2  # kg
+LIGHTEST_OBJECT = 0.001  # kg: a gram; far lighter, the contact solver's factorisation fails
 REST_TOLERANCE = 0.005  # m: how far an object's given z may be from resting on the top
 MAX_NAME_LENGTH = 64
 
@@ -304,7 +305,7 @@ def _check_object(obj: ObjectConfig, key: str, fail: Fail) -> None:
     if min(obj.size[:2]) > GRIPPER_MAX_WIDTH:
         fail(f"{key}.size", f"expected a side at most {GRIPPER_MAX_WIDTH} m for the gripper")
     _choice(fail, f"{key}.color", obj.color, sorted(OBJECT_COLORS))
-    _number(fail, f"{key}.mass", obj.mass, Interval(0, PAYLOAD, "kg, the payload", True))
+    _number(fail, f"{key}.mass", obj.mass, Interval(LIGHTEST_OBJECT, PAYLOAD, "kg"))
     if len(obj.position) not in (2, 3):
         fail(f"{key}.position", f"expected [x, y] or [x, y, z], got {describe(obj.position)}")
     _numbers(fail, f"{key}.position", obj.position, ROOM)

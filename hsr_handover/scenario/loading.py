@@ -30,13 +30,13 @@ def load_scenario(filename: str | Path) -> Scenario:
         if raw is None:
             raise SchemaMismatch("(file)", "expected a mapping of scenario sections, got none")
         check_against_schema(raw, Scenario)
+        # Drake parses the same text again; the walk above has ruled out everything it would
+        # read differently, but its scanner is stricter (a tab after a key's colon).
+        scenario = yaml_load_typed(schema=Scenario, data=text, defaults=Scenario())
     except yaml.YAMLError as error:
         raise _yaml_error(name, text, error) from None
     except SchemaMismatch as error:
         raise ScenarioError(name, error.key_path, error.expected) from None
-    # Drake parses the same text again; the walk above has ruled out everything it would
-    # reject or read differently.
-    scenario = yaml_load_typed(schema=Scenario, data=text, defaults=Scenario())
     scenario.source = name
     check_scenario(scenario)
     return scenario

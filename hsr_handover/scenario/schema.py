@@ -89,8 +89,8 @@ class ObjectConfig:
     already uses ("table", "person", the robot model's name, Drake's "WorldModelInstance" and
     "DefaultModelInstance", SDFormat's "world" and "__...__"); size each in (0, 0.5] m, the
     smaller horizontal side at most the gripper's 0.12 m; position x, y (and z) in [-20, 20] m,
-    the footprint inside the table top; yaw in [-2pi, 2pi] rad; mass in (0, 1.2] kg (the
-    payload).
+    the footprint inside the table top; yaw in [-2pi, 2pi] rad; mass in [0.001, 1.2] kg (a gram
+    to the payload).
     """
 
     name: str = ""

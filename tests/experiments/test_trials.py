@@ -7,6 +7,7 @@ import os
 import select
 import shutil
 import signal
+import socket
 import subprocess
 import sys
 import tempfile
@@ -17,6 +18,7 @@ import pytest
 from hsr_handover.experiments.trials import (
     CRASHED,
     RAY_MISSING,
+    ClusterUnavailable,
     TrialOutcome,
     TrialProgress,
     run_trials,
@@ -153,6 +155,17 @@ def test_ray_address_without_ray_is_a_clear_error(monkeypatch):
         run_trials(trial_functions.draw, [{"seed": 0}], ray_address="127.0.0.1:6379")
     assert str(error.value) == RAY_MISSING
     assert str(error.value) == "--ray-address needs Ray: pip install 'hsr_handover[cluster]'"
+
+
+def test_an_address_where_nothing_listens_is_refused_at_once():
+    """Ray itself retries such an address for minutes; the runner asks the port first."""
+    pytest.importorskip("ray")
+    with socket.socket() as probe:  # a port nothing listens on: bound, never listening
+        probe.bind(("127.0.0.1", 0))
+        port = probe.getsockname()[1]
+        with pytest.raises(ClusterUnavailable, match=f"no Ray cluster at 127.0.0.1:{port}: "
+                           f"nothing answers at 127.0.0.1:{port}"):  # fmt: skip
+            run_trials(trial_functions.draw, [{"seed": 0}], ray_address=f"127.0.0.1:{port}")
 
 
 # A one-CPU Ray instance in a process of its own, as a cluster's head would be: it prints its

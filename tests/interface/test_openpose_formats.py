@@ -278,6 +278,28 @@ def test_broken_and_empty_frames_are_skipped_counted_and_the_sequence_goes_on(tm
     assert len(read_openpose_frames(recording.files)) == 6
 
 
+def test_frames_nested_too_deep_or_with_huge_numbers_are_skipped_with_their_file(tmp_path):
+    """JSON that Python cannot read (200,000 nested arrays; a number of 5,000 digits) is a
+    broken frame like any other: skipped in a folder, an error naming a lone file."""
+    for index in range(3):
+        write_frame(tmp_path / openpose_name(index), [person_table()])
+    (tmp_path / openpose_name(1)).write_text("[" * 200_000)
+    huge = '{"people": [{"pose_keypoints_2d": [' + "9" * 5000 + "]}]}"
+    (tmp_path / openpose_name(2)).write_text(huge)
+    recording = read_openpose_recording(tmp_path)
+    assert [d.status for d in recording.detections] == [
+        "ok", "frame skipped: unparseable JSON", "frame skipped: unparseable JSON",
+    ]  # fmt: skip
+    first, second = (item.reason for item in recording.skipped)
+    assert first == f"{tmp_path / openpose_name(1)}: expected OpenPose JSON, got arrays or " + (
+        "objects nested too deeply to read"
+    )
+    assert second.startswith(f"{tmp_path / openpose_name(2)}: expected OpenPose JSON, could not")
+    assert "5000 digits" in second and "sys.set_int_max_str_digits" not in second
+    with pytest.raises(ValueError, match="nested too deeply"):
+        read_openpose_recording(tmp_path / openpose_name(1))
+
+
 def test_folder_with_no_frames_or_only_broken_ones_is_an_error_naming_it(tmp_path):
     empty = tmp_path / "empty"
     empty.mkdir()

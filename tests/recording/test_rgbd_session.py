@@ -4,6 +4,7 @@ their own ports, and errors naming the file at fault."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -103,6 +104,48 @@ def test_a_broken_session_is_refused_naming_the_file(session, spoil, expected):
     spoil(session)
     with pytest.raises(SessionError, match=expected):
         read_session(session)
+
+
+def _settings(text: str):
+    return lambda d: (d / "session.yaml").write_text(text)
+
+
+def _link_out(d: Path, inside: str) -> None:
+    """Replace a file of the session with a symbolic link to a copy outside the folder."""
+    outside = d.parent / "elsewhere"
+    outside.write_bytes((d / inside).read_bytes())
+    (d / inside).unlink()
+    (d / inside).symlink_to(outside)
+
+
+@pytest.mark.parametrize(
+    ("spoil", "expected"),
+    [
+        (_settings("robot:\n  model: ../../elsewhere/x.sdf\n"),
+         r"session.yaml: robot: expected only the robot's settings"),
+        (_settings("perception:\n  skeleton_recording:\n    path: /etc/passwd\n"),
+         r"session.yaml: perception.skeleton_recording: expected none here"),
+        (_settings("simulation:\n  duration: 5\n"), r"simulation.duration: expected none here"),
+        (lambda d: _link_out(d, "pose/000000000001.yaml"),
+         r"pose/000000000001.yaml: expected a file inside the session folder"),
+        (lambda d: _link_out(d, "openpose/000000000002_keypoints.json"),
+         r"000000000002_keypoints.json: expected a file inside the session folder"),
+    ],
+)  # fmt: skip
+def test_a_session_is_read_only_from_inside_its_folder(session, spoil, expected):
+    """Nothing a session names leads out of it: its settings are the robot's own (no model
+    file, no recording elsewhere), and no frame is a link to a file outside the folder."""
+    spoil(session)
+    with pytest.raises(SessionError, match=expected):
+        read_session(session)
+
+
+def test_a_frames_image_linked_out_of_the_session_is_refused_when_read(session):
+    _link_out(session, "color/000000000001.png")
+    read = read_session(session)
+    read.frame(0)
+    with pytest.raises(SessionError, match="expected a file inside the session folder"):
+        read.frame(1)
 
 
 def test_a_distorted_camera_is_refused(session):
