@@ -10,7 +10,9 @@ Only the body keypoints are read: face, hand and 3-D fields are ignored whatever
   default: COCO's keypoints plus MidHip at index 8 and six foot points, with the hips and the
   face moved) are read, BODY_25 remapped to COCO-18 by keypoint name. The model is told by the
   count of keypoints; BODY_25B, also 25 keypoints but in another order, is told from BODY_25 by
-  geometry (`looks_like_body25`). Other models are refused, named when known.
+  the whole file's or sequence's geometry, and only on strong evidence (`decide_model`): a
+  doubtful file is read as BODY_25, OpenPose's default, with a note. Other models are refused,
+  named when known.
 - **Confidences** are heat-map peaks and go slightly above 1 (1.006 is common): up to
   MAX_CONFIDENCE they are clamped to 1; above, or negative, the file is refused.
 - **Scales** (`--keypoint_scale`): pixels (0, the default), [0, 1] (3) or [-1, 1] (4) of the
@@ -74,10 +76,15 @@ BODY25_TO_COCO18 = np.array([BODY25_KEYPOINTS.index(name) for name in COCO18_KEY
 # left wrist and the right hip.
 BODY25_MIDPOINTS = ((1, 2, 5), (8, 9, 12))
 # A detected midpoint lies within a quarter of its segment's length of the true midpoint: the
-# detector's few pixels of noise on segments tens of pixels long. BODY_25B's points are off by
-# about half a segment or more. The median over every person and frame decides, so a few odd
-# detections (a person seen side on, whose shoulders overlap) do not.
+# detector's few pixels of noise on segments tens of pixels long. A person seen side on, or half
+# out of the image, can read far off, so the midpoints alone only ever make a file doubtful.
 MIDPOINT_TOLERANCE = 0.25
+# The decisive test: index 15 is BODY_25's right eye, a few cm from the nose (index 0), and
+# BODY_25B's left ankle, a body's height from it; index 1 is BODY_25's neck, a head's height
+# below the nose, and BODY_25B's left eye beside it. So |0-15| / |0-1| is about 0.2 in BODY_25
+# and tens in BODY_25B, whatever way the person turns; a table over HEAD_SPAN_RATIO is BODY_25B's.
+HEAD_SPAN_RATIO = 2.0
+STRONG_EVIDENCE = 2  # people (over the file or the sequence) whose nose-eye-neck says BODY_25B
 
 UNSUPPORTED_MODELS = {
     15: "MPI", 19: "BODY_19", 23: "BODY_23", 59: "BODY_59", 65: "BODY_65", 135: "BODY_135",
@@ -274,30 +281,67 @@ def midpoint_offsets(table: np.ndarray) -> list[float]:
     return offsets
 
 
-def looks_like_body25(tables: Sequence[np.ndarray]) -> bool:
-    """Whether 25-keypoint tables (pixels) are BODY_25 rather than BODY_25B, by the median of
-    `midpoint_offsets` over all of them; True when no table shows a midpoint's three keypoints
-    (BODY_25 is OpenPose's default)."""
+def head_span_ratio(table: np.ndarray) -> float | None:
+    """|keypoint 0 - keypoint 15| / |keypoint 0 - keypoint 1| of a 25-keypoint table (see
+    HEAD_SPAN_RATIO); None unless all three were found."""
+    if not np.all(table[[0, 1, 15], 2] > 0):
+        return None
+    reach = float(np.linalg.norm(table[1, :2] - table[0, :2]))
+    return float(np.linalg.norm(table[15, :2] - table[0, :2])) / reach if reach > 0 else None
+
+
+@dataclasses.dataclass(frozen=True)
+class ModelDecision:
+    """The model frames are read as, and a one-line note when the file only looks doubtful
+    (read as BODY_25, OpenPose's default, all the same)."""
+
+    model: str
+    note: str = ""
+
+
+def _body25_or_b(tables: Sequence[np.ndarray], source: str, where: str) -> ModelDecision:
+    """BODY_25 unless at least STRONG_EVIDENCE people, and most of those measured, have a
+    head span only BODY_25B gives. Fewer such people, or (with no head span measured) necks and
+    mid-hips off midway, make a note, not a refusal."""
+    ratios = [r for r in map(head_span_ratio, tables) if r is not None]
+    wide = sum(r > HEAD_SPAN_RATIO for r in ratios)
+    far = f"in {wide} of {len(ratios)} people keypoint 15 lies far from the nose (BODY_25's eye, "
+    if wide >= STRONG_EVIDENCE and wide > len(ratios) / 2:
+        raise OpenPoseFormatError(
+            source, where,
+            f"expected COCO or BODY_25, got BODY_25B: {far}BODY_25B's ankle); not supported "
+            "(declare model BODY_25 if it is BODY_25)",
+        )  # fmt: skip
     offsets = [offset for table in tables for offset in midpoint_offsets(table)]
-    return not offsets or float(np.median(offsets)) <= MIDPOINT_TOLERANCE
+    doubt = ""
+    if wide:
+        doubt = f"{far}BODY_25B's ankle)"
+    elif not ratios and offsets and float(np.median(offsets)) > MIDPOINT_TOLERANCE:
+        median = float(np.median(offsets))
+        doubt = f"its necks and mid-hips lie off midway (median {median:.2f} of a segment)"
+    if not doubt:
+        return ModelDecision(BODY_25)
+    return ModelDecision(BODY_25, f"{source}: read as BODY_25 (OpenPose's default), though "
+                                  f"{doubt}; declare the model if it is another")  # fmt: skip
 
 
-def decide_model(frames: Sequence[RawFrame], declared: str) -> str:
+def decide_model(frames: Sequence[RawFrame], declared: str) -> ModelDecision:
     """The model of frames (in pixels) whose people all have the same keypoint count: the
-    declared one (checked against the count), or told by the count and, for 25, the geometry.
-    Raises OpenPoseFormatError naming the first file with people and the model it holds. With
-    no person in any frame, the declared model, or UNKNOWN (there is nothing to remap)."""
+    declared one (checked against the count), or told by the count and, for 25, by the whole
+    file's or sequence's geometry (`_body25_or_b`). Raises OpenPoseFormatError naming the first
+    file with people and the model it holds. With no person in any frame, the declared model,
+    or UNKNOWN (there is nothing to remap)."""
     first = next((frame for frame in frames if frame.people), None)
     if first is None:
-        return UNKNOWN if declared == AUTO else declared
+        return ModelDecision(UNKNOWN if declared == AUTO else declared)
     count, where = first.keypoint_count, f"people[0].{first.key}"
     if declared != AUTO:
         if count != MODEL_KEYPOINTS[declared]:
             expected = f"expected {MODEL_KEYPOINTS[declared]} keypoints for model {declared}"
             raise OpenPoseFormatError(first.source, where, f"{expected}, got {count}")
-        return declared
+        return ModelDecision(declared)
     if count == MODEL_KEYPOINTS[COCO]:
-        return COCO
+        return ModelDecision(COCO)
     if count != MODEL_KEYPOINTS[BODY_25]:
         raise OpenPoseFormatError(
             first.source,
@@ -305,15 +349,7 @@ def decide_model(frames: Sequence[RawFrame], declared: str) -> str:
             f"expected COCO's 18 or BODY_25's 25 keypoints, got {count} "
             f"({unsupported_model(count)}), not supported",
         )
-    if not looks_like_body25([table for frame in frames for table in frame.people]):
-        raise OpenPoseFormatError(
-            first.source,
-            where,
-            "expected COCO or BODY_25, got BODY_25B (25 keypoints, but the neck and MidHip are "
-            "not midway between the shoulders and the hips), not supported; declare model "
-            "BODY_25 if it is BODY_25",
-        )
-    return BODY_25
+    return _body25_or_b([table for frame in frames for table in frame.people], first.source, where)
 
 
 def to_detection(table: np.ndarray, model: str) -> Detection:

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import logging
 import os
 import re
 from collections.abc import Sequence
@@ -47,6 +48,8 @@ from hsr_handover.interface.openpose_format import (
     to_detection,
 )
 from hsr_handover.interface.person_tracking import NO_PERSON, PersonTracker
+
+LOG = logging.getLogger(__name__)  # a file read in doubt: one line, the reading goes on
 
 __all__ = [
     "NO_PERSON", "OPENPOSE_VERSION", "SKIPPED", "Keypoints2D", "OpenPoseRecording", "SkippedFrame",
@@ -138,7 +141,10 @@ def read_openpose_json(
     if keypoint_scale == PIXELS:
         check_not_normalised([frame], frame.source)
     frame = frame_in_pixels(frame, keypoint_scale, image_size)
-    return list(_detections(frame, decide_model([frame], model)))
+    decision = decide_model([frame], model)
+    if decision.note:
+        LOG.warning(decision.note)
+    return list(_detections(frame, decision.model))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -161,7 +167,7 @@ class OpenPoseRecording:
     detections (none for a skipped frame). `detections`: the person of interest in each frame,
     or an empty detection whose status says why not (NO_PERSON, the tracker's "tracked person
     not in the frame", or "frame skipped: <kind>"). `skipped`: the frames that could not be
-    read, in frame order.
+    read, in frame order. `model_note`: why the model read is in doubt, if it is.
     """
 
     source: str
@@ -171,6 +177,7 @@ class OpenPoseRecording:
     people: tuple[tuple[Detection, ...], ...]
     detections: tuple[Detection, ...]
     skipped: tuple[SkippedFrame, ...]
+    model_note: str = ""
 
 
 def natural_sort_key(name: str) -> tuple:
@@ -284,7 +291,10 @@ def read_openpose_recording(
         None if frame is None else frame_in_pixels(frame, keypoint_scale, image_size)
         for frame in frames
     ]
-    model = decide_model([frame for frame in pixel_frames if frame is not None], model)
+    decision = decide_model([frame for frame in pixel_frames if frame is not None], model)
+    if decision.note:
+        LOG.warning(decision.note)
+    model = decision.model
     people = tuple(() if frame is None else _detections(frame, model) for frame in pixel_frames)
     reasons = {item.file: item.kind for item in skipped}
     tracker = PersonTracker(near_px)
@@ -298,7 +308,7 @@ def read_openpose_recording(
     skipped.sort(key=lambda item: order[item.file])  # in frame order, whatever skipped them
     names = tuple(str(path) for path in files)
     return OpenPoseRecording(
-        where, model, keypoint_scale, names, people, detections, tuple(skipped)
+        where, model, keypoint_scale, names, people, detections, tuple(skipped), decision.note
     )
 
 

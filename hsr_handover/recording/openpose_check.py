@@ -26,7 +26,8 @@ SKIPPED_EXAMPLES = 5
 class OpenPoseSummary:
     """What `summarise_recording` finds (JSON-ready through `to_dict`; None where undefined).
 
-    `people_per_frame`: min, median and max over the frames read. `skipped_reasons`: skipped
+    `model_note`: why the model read is in doubt ("" when it is not). `people_per_frame`: min,
+    median and max over the frames read. `skipped_reasons`: skipped
     frames counted by why; `skipped_examples`: the first few, {file, reason}. `tracked_frames`:
     frames in which the tracked person is seen. `jump_px`: their mean keypoint displacement
     between consecutive frames in which they are seen (`pairs` of frames): median and p95.
@@ -34,6 +35,7 @@ class OpenPoseSummary:
 
     path: str
     model: str
+    model_note: str
     keypoint_scale: str
     frames: int
     people_per_frame: dict[str, int | float | None]
@@ -75,6 +77,7 @@ def summarise_recording(recording: OpenPoseRecording) -> OpenPoseSummary:
     return OpenPoseSummary(
         path=recording.source,
         model=recording.model,
+        model_note=recording.model_note,
         keypoint_scale=recording.keypoint_scale,
         frames=len(recording.files),
         people_per_frame={
@@ -126,6 +129,8 @@ def summary_lines(summary: OpenPoseSummary) -> list[str]:
         f"  people per frame: min {_number(people['min'])}, median {_number(people['median'])}, "
         f"max {_number(people['max'])}",
     ]
+    if summary.model_note:
+        lines.append(f"  model: {summary.model_note}")
     if summary.skipped:
         reasons = ", ".join(f"{count} {kind}" for kind, count in summary.skipped_reasons.items())
         first = summary.skipped_examples[0]["reason"]
