@@ -13,6 +13,7 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
+from hsr_handover.experiments.reporting import FIGURE_SUFFIXES
 from hsr_handover.progress import ProgressBar
 
 EXIT_USAGE = 2
@@ -58,7 +59,14 @@ def _add_trial_arguments(parser) -> None:
     parser.add_argument("--ray-address", help="run the trials on this existing Ray cluster")
     parser.add_argument("--csv", type=Path, help="one row per trial (.csv)")
     parser.add_argument("--json", type=Path, help="summary (.json)")
-    parser.add_argument("--plot", type=Path, help="figure beside the paper's figures (.png)")
+    parser.add_argument(
+        "--plot", type=Path, help="figure beside the paper's figures (.png, .svg or .pdf)"
+    )
+    parser.add_argument(
+        "--report", type=Path,
+        help="a folder for the report page (index.html: the rates beside the paper's, the "
+        "figure, the trials, each linked to its replay with --html-dir)",
+    )  # fmt: skip
     parser.add_argument(
         "--html-dir", type=Path, help="a replay per trial, named by trial and outcome"
     )
@@ -124,7 +132,7 @@ def _parser() -> argparse.ArgumentParser:
         "attention", help="run the attention experiment (paper figs. 9-12) on a scenario"
     )
     attention.add_argument("scenario", type=Path, help="scenario YAML with perception.attention")
-    attention.add_argument("--plot", type=Path, help="figure to write (.png)")
+    attention.add_argument("--plot", type=Path, help="figure to write (.png, .svg or .pdf)")
     attention.add_argument("--csv", type=Path, help="time series to write (.csv)")
     attention.add_argument("--json", type=Path, help="summary to write (.json)")
     attention.add_argument("--html", type=Path, help="replay to write (.html)")
@@ -134,7 +142,7 @@ def _parser() -> argparse.ArgumentParser:
         "effectivity", help="the arm's and the person's ranges and the handover point (figs. 8, 14)"
     )
     effectivity.add_argument("scenario", type=Path, help="scenario YAML with a person")
-    effectivity.add_argument("--plot", type=Path, help="figure to write (.png)")
+    effectivity.add_argument("--plot", type=Path, help="figure to write (.png, .svg or .pdf)")
     effectivity.add_argument("--json", type=Path, help="summary to write (.json)")
     effectivity.add_argument("--html", type=Path, help="replay with the figures to write (.html)")
     intent = commands.add_parser(
@@ -147,12 +155,16 @@ def _parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _output_path(path: Path | None, option: str, suffix: str) -> Path | None:
+def _output_path(path: Path | None, option: str, suffixes: str | tuple[str, ...]) -> Path | None:
     """Check an output path before anything runs, so a bad one costs no simulation."""
     if path is None:
         return None
-    if path.suffix.lower() != suffix:
-        raise UsageError(f"{option}: expected a path ending in {suffix}, got {str(path)!r}")
+    suffixes = (suffixes,) if isinstance(suffixes, str) else suffixes
+    if path.suffix.lower() not in suffixes:
+        expected = " or ".join(suffixes)
+        raise UsageError(f"{option}: expected a path ending in {expected}, got {str(path)!r}")
+    if path.is_dir():
+        raise UsageError(f"{option}: expected a file to write, {str(path)!r} is a directory")
     directory = path.parent if str(path.parent) else Path(".")
     if not directory.is_dir():
         raise UsageError(f"{option}: expected an existing directory, {str(directory)!r} is not one")
@@ -315,7 +327,7 @@ def _attention(args: argparse.Namespace) -> int:
     if not scenario.perception.attention:
         raise UsageError(f"{args.scenario}: perception.attention: expected a focus schedule")
     outputs = {
-        "plot": _output_path(args.plot, "--plot", ".png"),
+        "plot": _output_path(args.plot, "--plot", FIGURE_SUFFIXES),
         "csv": _output_path(args.csv, "--csv", ".csv"),
         "json": _output_path(args.json, "--json", ".json"),
     }
@@ -339,7 +351,7 @@ def _effectivity(args: argparse.Namespace) -> int:
     from hsr_handover.scenario import load_scenario
 
     scenario = load_scenario(args.scenario)
-    outputs = {"plot": _output_path(args.plot, "--plot", ".png"),
+    outputs = {"plot": _output_path(args.plot, "--plot", FIGURE_SUFFIXES),
                "json": _output_path(args.json, "--json", ".json"),
                "html": _output_path(args.html, "--html", ".html")}  # fmt: skip
     result = run_effectivity(scenario, replay=outputs["html"])
@@ -379,12 +391,13 @@ def _experiment(args: argparse.Namespace) -> int:
     outputs = {
         "csv": _output_path(args.csv, "--csv", ".csv"),
         "json": _output_path(args.json, "--json", ".json"),
-        "plot": _output_path(args.plot, "--plot", ".png"),
+        "plot": _output_path(args.plot, "--plot", FIGURE_SUFFIXES),
     }
     html_dir = _output_dir(args.html_dir, "--html-dir")
     scenario_dir = _output_dir(args.scenario_dir, "--scenario-dir")
+    report_dir = _output_dir(args.report, "--report")
     run, summarise, report = _experiment_kind(args.experiment)
-    for directory in (html_dir, scenario_dir):
+    for directory in (html_dir, scenario_dir, report_dir):
         if directory is not None:
             directory.mkdir(exist_ok=True)
     experiment = run(
@@ -401,8 +414,20 @@ def _experiment(args: argparse.Namespace) -> int:
         if path is not None:
             writers[name](path)
             print(f"wrote {path}")
+    if report_dir is not None:
+        print(f"wrote {_write_report(report_dir, report, summary, experiment.rows(), html_dir)}")
     print("\n".join(report.summary_lines(summary)))
     return 0
+
+
+def _write_report(directory: Path, report, summary: dict, rows: list[dict], replays) -> Path:
+    """The experiment's report page in `directory` (`experiments.html_report`)."""
+    from hsr_handover.experiments.html_report import write_report
+
+    return write_report(
+        directory, report.TITLE, report.rate_rows(summary), report.summary_lines(summary),
+        lambda path: report.plot(summary, path), rows, report.trial_columns(rows), replays,
+    )  # fmt: skip
 
 
 def _experiment_kind(kind: str):

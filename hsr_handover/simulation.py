@@ -23,7 +23,7 @@ from pydrake.systems.framework import Context, Diagram, DiagramBuilder, EventSta
 
 from hsr_handover import interface
 from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY
-from hsr_handover.recording.rgbd_session import start_session
+from hsr_handover.recording.rgbd_session import PERCEPTION_NOT_IN_SESSION, start_session
 from hsr_handover.recording.session_recorder import SessionRecorder
 from hsr_handover.replay.cycle_visualizer import CycleVisualizer
 from hsr_handover.replay.graph_visualizer import add_graph_visualizer
@@ -34,7 +34,7 @@ from hsr_handover.replay.meshcat_replay import (
     write_replay,
 )
 from hsr_handover.robot.builder import Robot, build_robot
-from hsr_handover.robot.handover.cycle import Cycle
+from hsr_handover.robot.handover.cycle_types import CycleRecord
 from hsr_handover.robot.intent import IntentState
 from hsr_handover.scenario import Scenario
 from hsr_handover.systems.port_types import check_abstract_connections
@@ -129,8 +129,8 @@ def session_settings(scenario: Scenario) -> dict:
     and intent settings and the seed, as a scenario file's sections
     (`offline_intent.perceive_session` reads them)."""
     perception = dataclasses.asdict(scenario.perception)
-    for key in ("enabled", "attention", "skeleton_recording", "detector"):
-        perception.pop(key)  # the world's sensor model, or not the robot's to replay
+    for key in PERCEPTION_NOT_IN_SESSION:
+        perception.pop(key)
     return {
         "simulation": {"seed": scenario.simulation.seed},
         "camera": {"rate_hz": scenario.camera.rate_hz},
@@ -163,7 +163,7 @@ class RunReport:
     replay: Path | None
     simulation: Simulation
     context: Context
-    cycle: Cycle | None = None  # the robot's handover cycle as it ended (handover runs)
+    cycle: CycleRecord | None = None  # the robot's handover cycle as it ended (handover runs)
     intent: IntentState | None = None  # what the robot recognised (runs with perception)
     person_holds: str = ""  # what the person's hand holds at the end (truth, for the report)
     person_repeated: float = math.nan  # when the person asked again for want of a response (s)
@@ -245,7 +245,7 @@ def run_scenario(
                      _intent(simulation, root), *_person(simulation, root))  # fmt: skip
 
 
-def _cycle(simulation: Simulation, root: Context) -> Cycle | None:
+def _cycle(simulation: Simulation, root: Context) -> CycleRecord | None:
     robot = simulation.robot.diagram
     if not robot.HasOutputPort(CYCLE):
         return None

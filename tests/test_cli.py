@@ -13,7 +13,7 @@ import pytest
 
 from hsr_handover.cli import _print_cycle, _ProgressBar
 from hsr_handover.experiments.reporting import format_value
-from hsr_handover.robot.handover.cycle import Cycle, Phase
+from hsr_handover.robot.handover.cycle_types import CycleRecord, Phase
 from tests.meshcat_html import meshcat_commands
 from tests.paths import SCENARIOS
 
@@ -126,7 +126,7 @@ def test_overrides_are_held_to_the_files_ranges(tmp_path, capsys, option, value,
 
 @pytest.mark.parametrize(("lift", "said"), [(0.0, False), (0.42, True)])
 def test_the_run_says_when_the_robot_watched_from_a_raised_torso(capsys, lift: float, said: bool):
-    cycle = Cycle(Phase.DONE, target="yellow", recognised_time=4.0, watch_lift=lift)
+    cycle = CycleRecord(Phase.DONE, target="yellow", recognised_time=4.0, watch_lift=lift)
     _print_cycle(cycle, "yellow_box")
     out = capsys.readouterr().out
     assert ("watched from: the torso raised, arm lift 0.42 m" in out) is said

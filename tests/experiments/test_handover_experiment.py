@@ -24,7 +24,7 @@ from hsr_handover.experiments.handover.trial import (
 )
 from hsr_handover.experiments.handover.trials import TIME_LIMIT_S, make_trials
 from hsr_handover.experiments.trials import TrialOutcome
-from hsr_handover.robot.handover.cycle import Cycle, Failure, Phase
+from hsr_handover.robot.handover.cycle_types import CycleRecord, Failure, Phase
 from hsr_handover.robot.handover.look_round import LOOK_ROUND_S
 from hsr_handover.scenario import load_scenario
 from hsr_handover.world.person.body import BodyDimensions
@@ -80,7 +80,7 @@ def _cycle(target="yellow", phases=("approach", "grasp", "lift", "carry", "prese
     phase = Phase.FAILED if failure else Phase(phases[-1])
     if failure:
         times["failed"] = times[phases[-1]] + 1
-    return Cycle(phase, failure, "why" if failure else "", target, 4.0, times, 1.5)
+    return CycleRecord(phase, failure, "why" if failure else "", target, 4.0, times, 1.5)
 
 
 def _score(**changes):
@@ -122,7 +122,7 @@ def test_the_first_thing_that_went_wrong_is_the_failure(box_trial):
     missed = _cycle(phases=("approach", "grasp", "retreat"), failure=Failure.GRASP_MISSED)
     row = judge(box_trial, missed, _score(lifted={}, gripped=math.nan), "", NAMES)
     assert (row["failure"], row["retrieved"]) == ("grasp missed", False)
-    none = judge(box_trial, Cycle(), _score(lifted={}, gripped=math.nan), "", NAMES)
+    none = judge(box_trial, CycleRecord(), _score(lifted={}, gripped=math.nan), "", NAMES)
     assert none["failure"] == "not recognised"
 
 
@@ -201,7 +201,7 @@ def test_the_summary_counts_every_trial_crashed_ones_too(base, box_trial, refusa
     assert summary["times_s"]["execution"] == pytest.approx(11.0)
     assert summary["min_clearance_m"] == pytest.approx(0.03)
     assert summary["table_height_error_m"] == pytest.approx(0.09)  # the worst; NaN ones left out
-    assert summary["paper"] == {"retrieval_rate": 0.866, "handover_rate": 0.90}
+    assert summary["paper"] == {"retrieval_rate": 0.866, "handover_rate": 0.90, "trials": 60}
     assert summary["crashed"] == [{"index": box_trial.index, "error": "RuntimeError: boom"}]
     assert summary["watched_raised"] == 1 and summary["handed_to_left"] == 1
     assert summary["first_choice_rate"] == pytest.approx(3 / 4) and summary["corrected"] == 0

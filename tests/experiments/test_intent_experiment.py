@@ -103,6 +103,11 @@ def test_the_summary_scores_success_by_position_false_triggers_and_failures(base
         (["--workers", "0"], "--workers: expected an integer in [1, 1024], got 0"),
         (["--seed", "-3"], "--seed: expected an integer in [0, 4294967295], got -3"),
         (["--json", "out.txt"], "--json: expected a path ending in .json, got 'out.txt'"),
+        (
+            ["--plot", "out.jpg"],
+            "--plot: expected a path ending in .png or .svg or .pdf, got 'out.jpg'",
+        ),
+        (["--plot", "."], "--plot: expected a path ending in .png or .svg or .pdf, got '.'"),
     ],
 )
 def test_bad_arguments_are_one_line_errors(capsys, arguments, expected):

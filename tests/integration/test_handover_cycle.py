@@ -8,7 +8,7 @@ import numpy as np
 
 from hsr_handover.experiments.handover.trial import judge
 from hsr_handover.experiments.handover.trials import HandoverTrial
-from hsr_handover.robot.handover.cycle import Phase
+from hsr_handover.robot.handover.cycle_types import Phase
 from hsr_handover.simulation import AFTER_CYCLE_S, CHUNK_S
 from hsr_handover.world.person.receiving import DRAW_IN_S, TUG_S
 

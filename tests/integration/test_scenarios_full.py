@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from hsr_handover.hsr import PALM_FRAME
-from hsr_handover.robot.handover.cycle import Phase
+from hsr_handover.robot.handover.cycle_types import Phase
 from hsr_handover.scenario import load_scenario, object_center
 from hsr_handover.simulation import run_scenario
 from tests.paths import bundled_scenarios

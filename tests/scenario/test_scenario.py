@@ -62,6 +62,16 @@ BROKEN = {
         "robot.model",
         "existing model file",
     ),
+    "object of a femtogram": (
+        _set("objects[0].mass", 1e-15),
+        "objects[0].mass",
+        "expected a number in [0.001, 1.2] (kg), got 1e-15",
+    ),
+    "object beyond the payload": (
+        _set("objects[0].mass", 1.5),
+        "objects[0].mass",
+        "expected a number in [0.001, 1.2] (kg), got 1.5",
+    ),
     "object floating": (
         _set("objects[0].position", [0.8, -0.22, 0.9]),
         "objects[0].position",
@@ -333,6 +343,11 @@ RAW_BROKEN = {
         "line 6",
         "expected valid YAML (control characters are not allowed)",
     ),
+    "a tab after a key's colon": (
+        _replace(DURATION_LINE, "  duration:\t5.0\n"),
+        "line 6",
+        "expected valid YAML (found character '\\t' that cannot start any token)",
+    ),
     "empty file": (b"", "(file)", "expected a mapping of scenario sections"),
     "comment-only file": (b"# to do\n", "(file)", "expected a mapping of scenario sections"),
     "lists nested a thousand deep": (
@@ -422,6 +437,9 @@ def test_bad_cli_arguments_are_one_line_errors(write_scenario, tmp_path, capsys)
     assert "--duration: expected a number in (0, 3600]" in capsys.readouterr().err
     assert main(["run", str(path), "--html", str(tmp_path / "missing" / "a.html")]) == 2
     assert "--html: expected an existing directory" in capsys.readouterr().err
+    (tmp_path / "taken.html").mkdir()  # checked before the run, not after it
+    assert main(["run", str(path), "--html", str(tmp_path / "taken.html")]) == 2
+    assert "--html: expected a file to write" in capsys.readouterr().err
     assert not (tmp_path / "a.html").exists()
 
 
@@ -437,7 +455,10 @@ def test_attention_needs_a_schedule_and_checks_outputs_before_running(
 
     path = write_scenario(schedule)
     assert main(["attention", str(path), "--plot", str(tmp_path / "a.jpg")]) == 2
-    assert "--plot: expected a path ending in .png" in capsys.readouterr().err
+    assert "--plot: expected a path ending in .png or .svg or .pdf" in capsys.readouterr().err
+    (tmp_path / "figure.svg").mkdir()
+    assert main(["attention", str(path), "--plot", str(tmp_path / "figure.svg")]) == 2
+    assert "--plot: expected a file to write" in capsys.readouterr().err
     assert not list(tmp_path.glob("a.*"))
 
 

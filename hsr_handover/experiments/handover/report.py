@@ -11,9 +11,12 @@ matplotlib.use("Agg")  # files only: no display on a robot's or CI's machine
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.ticker import MaxNLocator  # noqa: E402
 
+from hsr_handover.experiments.html_report import RateRow  # noqa: E402
 from hsr_handover.experiments.reporting import (  # noqa: E402
     bars_beside_paper,
+    counted,
     format_value,
+    save_figure,
     write_rows,
 )
 from hsr_handover.experiments.trial_classes import class_columns, class_lines  # noqa: E402
@@ -31,9 +34,34 @@ CSV_COLUMNS = (
 )  # fmt: skip
 
 
+TITLE = "The handover experiment (paper 4.3)"
+
+
+def trial_columns(rows: list[dict]) -> tuple[str, ...]:
+    """The per-trial table's columns: CSV_COLUMNS and the layout's classes."""
+    return (*CSV_COLUMNS, *class_columns(rows))
+
+
 def write_csv(rows: list[dict], path: Path) -> None:
     """One row per trial, crashed trials included with their reason."""
-    write_rows(rows, (*CSV_COLUMNS, *class_columns(rows)), path)
+    write_rows(rows, trial_columns(rows), path)
+
+
+def rate_rows(summary: dict) -> list[RateRow]:
+    """The summary's rates as counts, ours beside the paper's: retrieval and handover over the
+    requests, the first object recognised being the one asked for, and refusals handled
+    gracefully (the paper has none of the last two)."""
+    trials, paper, paper_n = summary["trials"], summary["paper"], summary["paper"]["trials"]
+    return [
+        RateRow("retrieved", counted(summary["retrieval_rate"], trials),
+                counted(paper["retrieval_rate"], paper_n)),
+        RateRow("handed over", counted(summary["handover_rate"], trials),
+                counted(paper["handover_rate"], paper_n)),
+        RateRow("first object recognised the one asked for",
+                counted(summary["first_choice_rate"], trials)),
+        RateRow("refusals handled gracefully",
+                counted(summary["graceful_refusal_rate"], summary["refusal_trials"])),
+    ]  # fmt: skip
 
 
 def _percent(value: float) -> str:
@@ -88,25 +116,23 @@ def plot(summary: dict, path: Path) -> None:
     failures by class."""
     figure, (bars, failures) = plt.subplots(1, 2, figsize=(11, 4.6))
     keys = ("retrieval_rate", "handover_rate")
-    ours = [100 * _nan_to_zero(summary[key]) for key in keys]
-    paper = [100 * summary["paper"][key] for key in keys]
+    trials, paper_trials = summary["trials"], summary["paper"]["trials"]
+    ours = [counted(summary[key], trials) for key in keys]
+    paper = [counted(summary["paper"][key], paper_trials) for key in keys]
     bars_beside_paper(bars, ["retrieval", "handover"], ours, paper)
-    bars.set_ylabel("trials (%)")
-    bars.set_title(f"Handover, {summary['trials']} requests (HandoverSim's success)")
+    bars.set_ylabel("requests (%)")
+    bars.set_title(f"Handover, {trials} requests (HandoverSim's success)", fontsize="medium")
     counts = {name: count for name, count in summary["failures"].items() if count}
     names = list(counts) or ["none"]
-    failures.barh(names, [counts.get(name, 0) for name in names], color="tab:red")
+    drawn = failures.barh(names, [counts.get(name, 0) for name in names], color="tab:red",
+                          height=0.5)  # fmt: skip
+    failures.bar_label(drawn, padding=3, fontsize="small")
     failures.xaxis.set_major_locator(MaxNLocator(integer=True))  # whole trials
     failures.set_xlabel("trials")
-    failures.set_title("Failures, first cause per trial")
+    failures.set_title("Failures, first cause per trial", fontsize="medium")
     failures.invert_yaxis()
     wall = summary.get("wall_s")
     if wall:
         figure.suptitle(f"{summary['trials']} requests in {wall / 60:.0f} min", fontsize="small")
     figure.tight_layout()
-    figure.savefig(path, dpi=120)
-    plt.close(figure)
-
-
-def _nan_to_zero(value: float) -> float:
-    return 0.0 if value != value else value
+    save_figure(figure, path)

@@ -32,12 +32,13 @@ from hsr_handover.experiments.layouts import write_trial_scenario
 from hsr_handover.experiments.seating import sit_clear
 from hsr_handover.experiments.trial_classes import by_class
 from hsr_handover.experiments.trials import Progress
-from hsr_handover.robot.handover.cycle import Cycle, Phase
+from hsr_handover.robot.handover.cycle_types import CycleRecord, Phase
 from hsr_handover.scenario import Scenario
 from hsr_handover.simulation import Simulation, run_scenario
 
-PAPER = {"retrieval_rate": 0.866, "handover_rate": 0.90}
-"""The paper's 60 real trials (4.3): the object asked for retrieved, and handed over."""
+PAPER = {"retrieval_rate": 0.866, "handover_rate": 0.90, "trials": 60}
+"""The paper's real trials (4.3: 20 for each of three objects): the object asked for
+retrieved, and handed over."""
 FAILURES = (
     "not recognised", "wrong object", "unreachable", "grasp missed", "dropped", "table contact",
     "person contact", "person withdrew", "timeout", "kept presenting", "trial crashed",
@@ -69,7 +70,7 @@ def run_handover_trial(trial: HandoverTrial) -> dict:
         trial.scenario, replay, monitor_factory=scorer, after_cycle_s=TRIAL_AFTER_CYCLE_S
     )
     names = {obj.color: obj.name for obj in trial.scenario.objects}
-    row = judge(trial, report.cycle or Cycle(), scorers[0].score, report.person_holds, names,
+    row = judge(trial, report.cycle or CycleRecord(), scorers[0].score, report.person_holds, names,
                 report.person_repeated)  # fmt: skip
     outcome = "handed over" if row["handed_over"] else row["failure"] or "refused, kept"
     name_replay(report.replay, trial.index, outcome)
@@ -85,7 +86,7 @@ def run_handover_trial(trial: HandoverTrial) -> dict:
 
 def judge(
     trial: HandoverTrial,
-    cycle: Cycle,
+    cycle: CycleRecord,
     score: TrialScore,
     holds: str,
     names: dict[str, str],
@@ -149,7 +150,7 @@ def _wrong_first(target: str, score: TrialScore) -> bool:
 
 
 def _first_failure(
-    trial: HandoverTrial, cycle: Cycle, score: TrialScore, recognised: str, complete: float
+    trial: HandoverTrial, cycle: CycleRecord, score: TrialScore, recognised: str, complete: float
 ) -> str:
     """The earliest thing that went wrong before the handover was `complete` (s; NaN if it
     never was), or ""; a refusal trial's robot timing out, which is what it should do, is not
@@ -169,7 +170,7 @@ def _first_failure(
     return min(events)[1] if events else ""
 
 
-def _graceful(trial: HandoverTrial, cycle: Cycle, score: TrialScore) -> bool:
+def _graceful(trial: HandoverTrial, cycle: CycleRecord, score: TrialScore) -> bool:
     """A refusal handled as it should be: the robot gave up waiting and kept the object, with
     no drop and no contact."""
     if trial.takes:

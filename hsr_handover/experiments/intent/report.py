@@ -11,10 +11,13 @@ matplotlib.use("Agg")  # files only: no display on a robot's or CI's machine
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from hsr_handover.experiments.html_report import RateRow  # noqa: E402
 from hsr_handover.experiments.intent.trial import POSITIONS  # noqa: E402
 from hsr_handover.experiments.reporting import (  # noqa: E402
     bars_beside_paper,
+    counted,
     format_value,
+    save_figure,
     write_rows,
 )
 from hsr_handover.experiments.trial_classes import class_columns, class_lines  # noqa: E402
@@ -27,9 +30,34 @@ CSV_COLUMNS = (
 )  # fmt: skip
 
 
+TITLE = "The intent experiment (paper 4.2)"
+
+
+def trial_columns(rows: list[dict]) -> tuple[str, ...]:
+    """The per-trial table's columns: CSV_COLUMNS and the layout's classes."""
+    return (*CSV_COLUMNS, *class_columns(rows))
+
+
 def write_csv(rows: list[dict], path: Path) -> None:
     """One row per trial, failed trials included with their reason."""
-    write_rows(rows, (*CSV_COLUMNS, *class_columns(rows)), path)
+    write_rows(rows, trial_columns(rows), path)
+
+
+def rate_rows(summary: dict) -> list[RateRow]:
+    """The summary's rates as counts, ours beside the paper's: by position, all requests (the
+    paper's 85.6 % is 154 of its 180), and false triggers (the paper has none to compare)."""
+    asked, paper_n = summary["requests_by_position"], summary["paper_trials_by_position"]
+    rows = [
+        RateRow(f"recognised, {side}", counted(summary["by_position"][side], asked[side]),
+                counted(summary["paper_by_position"][side], paper_n))
+        for side in POSITIONS
+    ]  # fmt: skip
+    paper_all = sum(counted(summary["paper_by_position"][side], paper_n)[0] for side in POSITIONS)
+    rows.append(RateRow("recognised, all", counted(summary["success_rate"], summary["trials"]),
+                        (paper_all, paper_n * len(POSITIONS))))  # fmt: skip
+    runs = summary.get("distractor_trials_run", summary["distractor_trials"])
+    rows.append(RateRow("false triggers", counted(summary["false_trigger_rate"], runs)))
+    return rows
 
 
 def summary_lines(summary: dict) -> list[str]:
@@ -80,27 +108,42 @@ def _arm_alone_line(arm: dict) -> str:
 
 
 def plot(summary: dict, path: Path) -> None:
-    """Left: success by position, ours beside the paper's. Right: the confusion matrix."""
-    figure, (bars, matrix) = plt.subplots(1, 2, figsize=(11, 4.2))
-    ours = [100 * summary["by_position"][side] for side in POSITIONS]
-    paper = [100 * summary["paper_by_position"][side] for side in POSITIONS]
+    """Left: success by position with 95 % intervals, ours beside the paper's. Right: the
+    confusion matrix, each row (the object asked for) shaded by its share, counts printed."""
+    figure, (bars, matrix) = plt.subplots(1, 2, figsize=(11, 4.4))
+    asked = summary["requests_by_position"]
+    ours = [counted(summary["by_position"][side], asked[side]) for side in POSITIONS]
+    paper_n = summary["paper_trials_by_position"]
+    paper = [counted(summary["paper_by_position"][side], paper_n) for side in POSITIONS]
     bars_beside_paper(bars, [f"{side}\n(person's view)" for side in POSITIONS], ours, paper)
-    bars.set_ylabel("target recognised (%)")
+    bars.set_ylabel("target recognised (% of requests)")
     false_rate = format_value(100 * summary["false_trigger_rate"], ".1f", " %")
-    bars.set_title(f"Intent recognition, {summary['trials']} requests; false triggers {false_rate}")
-    names = list(summary["confusion"])
-    columns = [*names, "none"]
-    counts = np.array([[summary["confusion"][row][col] for col in columns] for row in names])
-    matrix.imshow(counts, cmap="Blues")
-    matrix.set_xticks(range(len(columns)), columns, rotation=30, ha="right")
-    matrix.set_yticks(range(len(names)), names)
-    matrix.set_xlabel("recognised")
-    matrix.set_ylabel("asked for")
-    matrix.set_title("Confusion (trials)")
-    for (row, col), count in np.ndenumerate(counts):
-        dark = count > counts.max() / 2  # white figures on the darker cells
-        matrix.text(col, row, str(count), ha="center", va="center",
-                    color="white" if dark else "black")  # fmt: skip
+    runs = summary.get("distractor_trials_run", summary["distractor_trials"])
+    bars.set_title(f"Intent recognition, {summary['trials']} requests\n"
+                   f"false triggers {false_rate} of {runs} distractor trials",
+                   fontsize="medium")  # fmt: skip
+    _confusion(matrix, summary["confusion"])
     figure.tight_layout()
-    figure.savefig(path, dpi=120)
-    plt.close(figure)
+    save_figure(figure, path)
+
+
+def _confusion(axes, confusion: dict) -> None:
+    """Rows: the object asked for; columns: the one recognised or none. Each cell shaded by
+    its share of the row (rows may hold different counts) and labelled with its count."""
+    names = list(confusion)
+    columns = [*names, "none"]
+    counts = np.array([[confusion[row][col] for col in columns] for row in names])
+    totals = counts.sum(axis=1, keepdims=True)
+    shares = np.divide(counts, totals, out=np.zeros(counts.shape), where=totals > 0)
+    image = axes.imshow(shares, cmap="Blues", vmin=0.0, vmax=1.0)
+    axes.set_xticks(range(len(columns)), columns, rotation=30, ha="right")
+    axes.set_yticks(
+        range(len(names)), [f"{n} ({t})" for n, t in zip(names, totals[:, 0], strict=True)]
+    )
+    axes.set_xlabel("recognised")
+    axes.set_ylabel("asked for (requests)")
+    axes.set_title("Confusion: share of each row, counts printed", fontsize="medium")
+    for (row, col), count in np.ndenumerate(counts):
+        axes.text(col, row, str(count), ha="center", va="center",
+                  color="white" if shares[row, col] > 0.5 else "black")  # fmt: skip
+    axes.figure.colorbar(image, ax=axes, fraction=0.046, pad=0.04, label="share of row")

@@ -14,17 +14,15 @@ from pydrake.math import RigidTransform
 from hsr_handover.hsr import GRIPPER_JOINT, PALM_FRAME
 from hsr_handover.robot.effectivity.arm_map import ArmEffectivity
 from hsr_handover.robot.effectivity.person_map import HumanArm, PersonEffectivity
-from hsr_handover.robot.handover.cycle import PlannedMotions
+from hsr_handover.robot.handover.cycle_types import PlannedMotions
 from hsr_handover.robot.handover.plan_view import PlanView, palm_path
+from hsr_handover.robot.planning.follow import plan_follow
 from hsr_handover.robot.planning.grasps import PAD_OFFSET
-from hsr_handover.robot.planning.inverse_kinematics import IkResult, PalmGoal, solve_palm_ik
-from hsr_handover.robot.planning.offer import object_extent, offer_points
+from hsr_handover.robot.planning.inverse_kinematics import PalmGoal
 from hsr_handover.robot.planning.perceived_scene import PerceivedScene
 from hsr_handover.robot.planning.planner import (
-    DIP_ALLOWANCE,
     Held,
     Plan,
-    holding,
     plan_back_off,
     plan_grasp,
     plan_handover,
@@ -33,12 +31,10 @@ from hsr_handover.robot.planning.planner import (
     plan_retreat,
 )
 from hsr_handover.robot.planning.planning_scene import PlanningScene
-from hsr_handover.robot.planning.retarget import Retargeting, retarget
+from hsr_handover.robot.planning.retarget import Retargeting
 from hsr_handover.robot.planning.timing import TimedPath, joint_limits
-from hsr_handover.robot.planning.trajectory import COLLISION_BOUND
 
 SIDE_NAMES = {"r": "right", "l": "left"}
-FOLLOW_CHECK_S = 0.05  # s between the clearance checks of a re-targeted motion
 
 
 class TimedMotion:
@@ -76,15 +72,6 @@ def _view(plan: Plan, motions, palm, person: PersonEffectivity | None) -> PlanVi
 def pads_centre(palm_pose: RigidTransform) -> np.ndarray:
     """The centre between the finger pads (m, world) of a hand whose frame is at `palm_pose`."""
     return palm_pose.multiply([0.0, 0.0, PAD_OFFSET])
-
-
-def _palm_ik(
-    scene: PlanningScene, goal: PalmGoal, q: np.ndarray, ignore: tuple[str, ...]
-) -> IkResult:
-    """IK for the hand at `goal`: with the base where it stands at `q`, else with a step of the
-    base (out of the arm's reach)."""
-    found = solve_palm_ik(scene, goal, q, ignore=ignore, base_fixed=True)
-    return found if found.ok else solve_palm_ik(scene, goal, q, ignore=ignore)
 
 
 class PerceivedPlanner:
@@ -155,40 +142,19 @@ class PerceivedPlanner:
     ) -> PlannedMotions:
         """A state-to-state move (ruckig) holding the object out at `aim` (m, world), or, where
         the object there would be inside the person's perceived capsules, at the nearest point
-        round it where it fits (`offer_points`)."""
+        round it where it fits (`planning.follow`)."""
         started = time.perf_counter()
         scene = self._planning()
-        ignore = () if held is None else (held.label,)
-        extent = object_extent(None if held is None else held.shape)
-        reason = "no point at the hand clear of the person"
         palm = self.palm_pose(q).rotation().matrix()  # the hand keeps the turn it has
         goal = PalmGoal(np.asarray(aim, dtype=float), palm[:, 2], palm[:, 1],
                         2 * q[scene.index(GRIPPER_JOINT)])  # fmt: skip
-        with holding(scene, held, q):
-            for point in offer_points(aim, scene.scene.person, extent):
-                motion, reason = self._move(scene, q, v, dataclasses.replace(goal, point=point),
-                                            ignore)  # fmt: skip
-                if motion is not None:
-                    motions = (("follow", motion),)
-                    view = PlanView(palm_path((m for _, m in motions), self.palm))
-                    seconds = time.perf_counter() - started
-                    return PlannedMotions(True, "ok", motions, seconds, view=view)
-        return PlannedMotions(False, reason, seconds=time.perf_counter() - started)
-
-    def _move(self, scene: PlanningScene, q, v, goal: PalmGoal, ignore: tuple[str, ...]):
-        """The motion that brings the hand to `goal` clear of the scene and "ok", or None and
-        why not."""
-        found = _palm_ik(scene, goal, q, ignore)
-        if not found.ok:
-            return None, found.reason
-        motion = retarget(q, v, np.zeros_like(q), found.q, self.limits)
-        if not motion.ok:
-            return None, motion.reason
-        _, positions = motion.sample(FOLLOW_CHECK_S)
-        clearance = min(scene.clearance_at(p, ignore) for p in positions)
-        if clearance < COLLISION_BOUND - DIP_ALLOWANCE:
-            return None, f"the way to the hand comes {clearance:.3f} m near"
-        return RetargetedMotion(motion), "ok"
+        found = plan_follow(scene, goal, q, v, held, self.limits)
+        if found.motion is None:
+            return PlannedMotions(False, found.reason, seconds=time.perf_counter() - started)
+        motions = (("follow", RetargetedMotion(found.motion)),)
+        view = PlanView(palm_path((m for _, m in motions), self.palm))
+        seconds = time.perf_counter() - started
+        return PlannedMotions(True, "ok", motions, seconds, view=view)
 
     def put_back(
         self, q: np.ndarray, held: Held, lifted: np.ndarray, came: Sequence[np.ndarray] = ()

@@ -29,16 +29,15 @@ def remember(last: PerceivedScene | None, scene: PerceivedScene) -> PerceivedSce
     when something passes in front of them or the robot looks at its hand). A part seen now is
     taken as seen now: while the whole person was kept until a view showed as many parts as the
     last, a view that lacked a hip's bone kept the person pointing, and the carry was planned
-    into the arm that had come to rest on the table (the moved layout's trial 9 of seed 2).
+    into the arm that had come to rest on the table.
     A part not seen now is forgotten where the camera now sees through its place
     (`_seen_through`), and an arm's part unseen for ARM_MEMORY_S while the rest of the person
     is seen and its place is in sight (`_stale`): a pointing arm lowered out of sight below
     the table's edge was kept pointing, and the object it had pointed at stayed unreachable
-    behind it for the rest of the trial (the staggered layout's trials 13 and 21 of seed 1:
-    its wrist had been lifted onto the object, so the camera saw the object, not through it,
-    where the arm had been). An arm out of view, or behind something nearer, is kept: a hand
-    held out toward the robot, out of view while the camera watched its own grasp, was
-    forgotten, and the carry was planned through it."""
+    behind it for the rest of the handover (its wrist had been lifted onto the object, so the
+    camera saw the object, not through it, where the arm had been). An arm out of view, or
+    behind something nearer, is kept: a hand held out toward the robot, out of view while the
+    camera watched its own grasp, was forgotten, and the carry was planned through it."""
     if last is None:
         return scene
     then = {shape.label: shape for shape in last.objects}
@@ -98,9 +97,9 @@ def _seen_through(capsule: Capsule, view: DepthView | None) -> bool:
 def _fuller(now: ObjectShape, then: ObjectShape | None) -> ObjectShape:
     """The object as seen `now`, unless it stands where it was seen `then` (its footprint's
     centre and its top within STILL_M) and shows less of itself now: an arm in front of it
-    hides part of it, which shrinks its footprint and turns its yaw (the standing layout's
-    trial 8 of seed 2: a 7 cm box seen 5.7 cm long and 9.6 degrees off as a pointing arm
-    lowered over it, and the fingers approaching along that struck it)."""
+    hides part of it, which shrinks its footprint and turns its yaw (a 7 cm box seen 5.7 cm
+    long and 9.6 degrees off as a pointing arm lowered over it, and the fingers approaching
+    along that struck it)."""
     if then is None or then.kind != now.kind:
         return now
     top_moved = abs((now.bottom + now.height) - (then.bottom + then.height))

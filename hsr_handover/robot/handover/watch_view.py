@@ -3,11 +3,11 @@ do not hide the arm a person points with.
 
 A seated person's pointing arm runs down from the shoulder toward the object, and near a high
 table the wrist comes level with the objects' tops: seen from the HSR's head at its lowest
-(the camera 0.97 m up), the objects between hide it, and the request is never recognised (the
-staggered layout's trials 5, 9 and 10: a table 0.80 m high, a person 1.58 m tall). Before the
-person points, the robot knows where the shoulders and the objects are; it works out where an
-arm pointing at each object would have its elbow and wrist, and how much higher the camera
-must be for every sight line to them to pass over every object. The torso rises that much,
+(the camera 0.97 m up), the objects between hide it, and the request is never recognised (a
+table 0.80 m high, a person 1.58 m tall). Before the person points, the robot knows where the
+shoulders and the objects are; it works out where an arm pointing at each object would have its
+elbow and wrist, and how much higher the camera must be for every sight line to them to pass
+over every object. The torso rises that much,
 the arm folded down out of the camera's view; the head keeps its tilt (a higher camera at
 the same tilt still frames the table's near edge, the objects and the person's head).
 """
@@ -24,7 +24,7 @@ from pydrake.math import RigidTransform
 
 from hsr_handover.hsr import CAMERA_FRAME, TORSO_JOINT
 from hsr_handover.interface.coco18 import keypoint_index
-from hsr_handover.robot.handover.cycle import Motion
+from hsr_handover.robot.handover.cycle_types import Motion
 from hsr_handover.robot.perception.active_gaze import FACE_ABOVE
 from hsr_handover.robot.perception.object_shapes import ObjectShape
 from hsr_handover.robot.perception.torso_depth import seen_shoulders
@@ -35,9 +35,9 @@ LIFT = "arm_lift_joint"
 FLEX = "arm_flex_joint"
 SHOULDER_DEPTH = BONES[(keypoint_index("neck"), keypoint_index("r_shoulder"))]
 """m from a lifted shoulder keypoint, on the body's surface facing the camera, back to the
-joint the arm turns about. Taken at the keypoints, the handover reference's shoulders came
-8-12 cm nearer the robot than they are, and the nearest sight line of its first twelve trials
-passed 0.6 cm short of asking for a rise; from the joints, 5 cm."""
+joint the arm turns about. Taken at the keypoints, seated people's shoulders came 8-12 cm
+nearer the robot than they are, and over twelve handovers the nearest sight line passed 0.6 cm
+short of asking for a rise; from the joints, 5 cm."""
 POINTING_REACH = 0.5
 """m from the shoulder to the wrist of an arm pointing at an object on the table (the
 simulated 1.58 m person's reads 0.51 m; most adults' are longer, so their wrists are

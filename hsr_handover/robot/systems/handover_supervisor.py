@@ -35,7 +35,8 @@ from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY, HEAD_JOINTS
 from hsr_handover.interface.coco18 import keypoint_index
 from hsr_handover.robot.effectivity.arm_map import ArmEffectivity
 from hsr_handover.robot.effectivity.person_map import RECEIVING_SIDES, HumanArm, receiving_arms
-from hsr_handover.robot.handover.cycle import Cycle, HandoverCycle, Motion, Percepts, Phase
+from hsr_handover.robot.handover.cycle import HandoverCycle
+from hsr_handover.robot.handover.cycle_types import CycleRecord, Motion, Percepts, Phase
 from hsr_handover.robot.handover.gaze import look_at
 from hsr_handover.robot.handover.look_round import (
     LOOK_AROUND_PANS,
@@ -66,12 +67,13 @@ another object comes into view until a request is recognised."""
 
 @dataclasses.dataclass
 class _Memory:
-    """What the supervisor carries between ticks: the cycle, the person's arms as last seen
-    with both shoulders, the way their torso faces (voted over the watch's frames: later, the
-    robot's own arm comes between the camera and the chest), the head's aim, the scene
-    with what is out of view remembered, and where it watches from."""
+    """What the supervisor carries between ticks: the cycle's state machine (`machine`, whose
+    `record` the `cycle` port gives), the person's arms as last seen with both shoulders, the
+    way their torso faces (voted over the watch's frames: later, the robot's own arm comes
+    between the camera and the chest), the head's aim, the scene with what is out of view
+    remembered, and where it watches from."""
 
-    cycle: HandoverCycle
+    machine: HandoverCycle
     arms: tuple[HumanArm, ...] = ()
     facing: SteadyFacing = dataclasses.field(default_factory=SteadyFacing)
     head: tuple[float, float] | None = None  # (pan, tilt) rad while the cycle looks at a point
@@ -120,7 +122,7 @@ class HandoverSupervisor(LeafSystem):
         self.DeclareVectorOutputPort("hsr_desired_state", 2 * n, self._calc_state)
         self.DeclareVectorOutputPort("gripper_desired_opening", 1, self._calc_opening)
         self.DeclareAbstractOutputPort(
-            "cycle", lambda: AbstractValue.Make(Cycle()), self._calc_cycle
+            "cycle", lambda: AbstractValue.Make(CycleRecord()), self._calc_cycle
         )
         self.DeclareAbstractOutputPort(
             "plan_view", lambda: AbstractValue.Make(PlanView()), self._calc_plan_view
@@ -135,10 +137,15 @@ class HandoverSupervisor(LeafSystem):
     def _memory_of(self, context: Context) -> _Memory:
         return context.get_abstract_state(self._memory).get_value()
 
+    def memory(self, context: Context) -> _Memory:
+        """What the supervisor carries between ticks in `context`, to read or change (Drake is
+        told it may change)."""
+        return context.get_mutable_abstract_state(self._memory).get_mutable_value()
+
     def _tick(self, context: Context, state: State) -> None:
         memory: _Memory = state.get_mutable_abstract_state(self._memory).get_value()
         skeleton = self._skeleton.Eval(context)
-        if memory.cycle.cycle.phase is Phase.WATCH:
+        if memory.machine.record.phase is Phase.WATCH:
             memory.facing = memory.facing.add(skeleton.torso_forward)
         arms = receiving_arms([skeleton], memory.facing.direction())
         memory.arms = arms or memory.arms
@@ -149,8 +156,8 @@ class HandoverSupervisor(LeafSystem):
             return
         self._planner.perceive(memory.scene, memory.arms)
         percepts = self._percepts(context, skeleton, arms, memory)
-        memory.cycle.step(percepts)
-        point = memory.cycle.gaze()
+        memory.machine.step(percepts)
+        point = memory.machine.gaze()
         if point is None:
             point = self._target_unseen(memory)
         memory.head = None if point is None else look_at(self._robot, percepts.q, point)
@@ -158,7 +165,7 @@ class HandoverSupervisor(LeafSystem):
     def _target_unseen(self, memory: _Memory) -> np.ndarray | None:
         """Where the object asked for was last seen, while the cycle waits to see it before it
         plans its grasp (`HandoverCycle.seeing`); else None."""
-        label = memory.cycle.seeing()
+        label = memory.machine.seeing()
         if label is None or memory.scene is None:
             return None
         shapes = [shape.centroid for shape in memory.scene.objects if shape.label == label]
@@ -167,8 +174,8 @@ class HandoverSupervisor(LeafSystem):
     def _correction(self, context: Context, skeleton, memory: _Memory) -> str | None:
         """Another object the person asks for while the robot lifts or carries one (None
         before it lifts, once it has heeded one, and while none is asked for)."""
-        cycle = memory.cycle.cycle
-        if cycle.phase not in (Phase.LIFT, Phase.CARRY) or cycle.first_target is not None:
+        record = memory.machine.record
+        if record.phase not in (Phase.LIFT, Phase.CARRY) or record.first_target is not None:
             return None
         if memory.correcting is None:
             intent = self._intent.Eval(context)
@@ -184,14 +191,15 @@ class HandoverSupervisor(LeafSystem):
     def _raise_view(self, context: Context, skeleton, memory: _Memory) -> None:
         """Raise the torso if the objects would hide a pointing arm (`WatchView.weigh`), only
         while it watches for a request."""
-        if memory.cycle.cycle.target is not None or not memory.view.settled(context.get_time()):
+        requested = memory.machine.record.target is not None
+        if requested or not memory.view.settled(context.get_time()):
             return
         objects = memory.scene.objects if memory.scene is not None else ()
         raised = memory.view.weigh(context.get_time(), self._robot, self._measured(context),
                                    skeleton.points, skeleton.confidence, objects,
                                    functools.partial(self._plan_raise, memory))  # fmt: skip
         if raised is not None:
-            memory.cycle.wait_until(raised.end)  # the grasp plans from the view reached
+            memory.machine.wait_until(raised.end)  # the grasp plans from the view reached
 
     def _plan_raise(self, memory: _Memory, q: np.ndarray, posture: np.ndarray) -> Motion | None:
         """The planner's motion to the posture it watches from, None if it finds none."""
@@ -213,17 +221,17 @@ class HandoverSupervisor(LeafSystem):
         q = self._measured(context)
         opening = float(self._opening.Eval(context)[0])
         target = self._intent.Eval(context).target
-        wanted = memory.cycle.cycle.target or target  # what it is fetching, once it has begun
+        wanted = memory.machine.record.target or target  # what it is fetching, once it has begun
         seen = None
         for detection in self._detections.Eval(context).detections:
             if detection.label == wanted and np.all(np.isfinite(detection.center)):
                 seen = np.asarray(detection.center, dtype=float)
-        side = memory.cycle.cycle.receiving or RECEIVING_SIDES[0]
+        side = memory.machine.record.receiving or RECEIVING_SIDES[0]
         arm = next((arm for arm in arms if arm.side == side), None)
         person = _person_point(skeleton, arm)
         palm_pose = self._planner.palm_pose(q)
         palm = pads_centre(palm_pose)
-        commanded, _, _ = memory.cycle.command(context.get_time())
+        commanded, _, _ = memory.machine.command(context.get_time())
         pull = (
             0.0
             if commanded is None
@@ -237,7 +245,7 @@ class HandoverSupervisor(LeafSystem):
     def _calc_state(self, context: Context, output: BasicVector) -> None:
         time = context.get_time()
         memory = self._memory_of(context)
-        q, v, _ = memory.cycle.command(time)
+        q, v, _ = memory.machine.command(time)
         if q is None:
             command = self._resting(memory, time)
         else:
@@ -265,23 +273,23 @@ class HandoverSupervisor(LeafSystem):
         return command
 
     def _calc_opening(self, context: Context, output: BasicVector) -> None:
-        cycle = self._memory_of(context).cycle
-        if cycle.cycle.phase is Phase.WATCH:
+        machine = self._memory_of(context).machine
+        if machine.record.phase is Phase.WATCH:
             output.SetFromVector([self._ready_opening])
             return
-        output.SetFromVector([cycle.gripper])
+        output.SetFromVector([machine.gripper])
 
     def _calc_watching(self, context: Context, output: BasicVector) -> None:
-        watching = self._memory_of(context).cycle.cycle.phase is Phase.WATCH
+        watching = self._memory_of(context).machine.record.phase is Phase.WATCH
         output.SetFromVector([1.0 if watching else 0.0])
 
     def _calc_cycle(self, context: Context, output: AbstractValue) -> None:
         memory = self._memory_of(context)
         lift = 0.0 if memory.view.raised is None else memory.view.raised.lift
-        output.set_value(dataclasses.replace(memory.cycle.cycle, watch_lift=lift))
+        output.set_value(dataclasses.replace(memory.machine.record, watch_lift=lift))
 
     def _calc_plan_view(self, context: Context, output: AbstractValue) -> None:
-        output.set_value(self._memory_of(context).cycle.view)
+        output.set_value(self._memory_of(context).machine.view)
 
 
 _WRISTS = {side: keypoint_index(f"{side}_wrist") for side in RECEIVING_SIDES}

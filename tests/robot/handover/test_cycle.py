@@ -8,32 +8,18 @@ import dataclasses
 import numpy as np
 import pytest
 
-from hsr_handover.robot.handover.cycle import (
-    CLOSED,
-    COMING,
-    EMPTY_S,
-    LET_GO,
-    LOOK_S,
-    LOST_S,
-    NUDGE_S,
-    OFFER,
-    OPEN,
-    PATIENCE_S,
-    REACH,
-    RETRY_EVERY_S,
-    SETTLE_S,
-    SPREAD,
-    STILL_UP,
-    TAKEN_S,
-    TUG,
-    WAIT_S,
+from hsr_handover.robot.handover.cycle import HandoverCycle
+from hsr_handover.robot.handover.cycle_params import CycleParams
+from hsr_handover.robot.handover.cycle_types import (
+    TERMINAL_PHASES,
+    CycleRecord,
     Failure,
-    HandoverCycle,
     Percepts,
     Phase,
     PlannedMotions,
 )
 
+PARAMS = CycleParams()
 TICK = 0.1
 OBJECT = np.array([0.8, 0.0, 0.76])
 WEIGHT = 8.0  # N of hand and object on the wrist's sensor
@@ -96,7 +82,7 @@ class World:
 
     def __init__(self, planner=None):
         self.planner = planner or Planner()
-        self.cycle = HandoverCycle(self.planner)
+        self.machine = HandoverCycle(self.planner)
         self.time, self.q = 0.0, np.zeros(3)
         self.opening, self.target, self.seen = 0.1, None, OBJECT.copy()
         self.hand = None
@@ -110,20 +96,20 @@ class World:
         end = self.time + seconds
         while self.time < end - 1e-9:
             self.time = round(self.time + TICK, 9)
-            q, _, _ = self.cycle.command(self.time)
+            q, _, _ = self.machine.command(self.time)
             self.q = self.q if q is None else q
             percepts = Percepts(self.time, self.q, self.opening, self.target, self.seen,
                                 self.hand, self.palm, self.person, self.pull,
                                 self.wrist_force, self.face, self.correction)  # fmt: skip
-            record = self.cycle.step(percepts)
+            record = self.machine.step(percepts)
         return record
 
     def until(self, phase: Phase, limit: float = 30.0):
         start = self.time
-        while self.cycle.cycle.phase is not phase:
-            assert self.time - start < limit, f"stuck in {self.cycle.cycle.phase}"
+        while self.machine.record.phase is not phase:
+            assert self.time - start < limit, f"stuck in {self.machine.record.phase}"
             self.tick()
-        return self.cycle.cycle
+        return self.machine.record
 
 
 def _closed_on(opening: float) -> World:
@@ -148,18 +134,19 @@ def test_it_watches_until_a_target_is_recognised():
     world = World()
     record = world.tick(2.0)
     assert record.phase is Phase.WATCH and world.planner.asked == []
-    assert world.cycle.command(world.time)[0] is None and world.cycle.gaze() is None
+    assert world.machine.command(world.time)[0] is None and world.machine.gaze() is None
 
 
 def test_a_whole_handover_runs_through_every_phase_in_order():
     world = _presenting()
-    assert world.cycle.command(world.time)[2] == CLOSED
+    assert world.machine.command(world.time)[2] == 0.0  # closed: the fingers stop on the object
     world.hand = world.palm + [0.15, 0.0, 0.0]  # the person's hand at the object
     world.tick(2.0)
-    assert world.cycle.cycle.phase is Phase.PRESENT  # a hand at the object is not yet a hold
+    assert world.machine.record.phase is Phase.PRESENT  # a hand at the object is not yet a hold
     world.pull = 0.02  # the person draws it in: the arm gives
     world.until(Phase.RELEASE)
-    assert world.cycle.command(world.time)[2] == pytest.approx(world.opening + LET_GO)
+    # 3 cm wider than the 6 cm object: no wider, not to sweep a finger into the person's hand
+    assert world.machine.command(world.time)[2] == pytest.approx(0.09)
     record = world.until(Phase.DONE)
     assert record.failure is None and record.target == "yellow"
     assert list(record.phase_times) == ["approach", "grasp", "lift", "carry", "present",
@@ -175,12 +162,12 @@ def test_a_whole_handover_runs_through_every_phase_in_order():
 
 def test_a_request_waits_to_be_planned_for_until_the_robot_stops_moving_on_another_command():
     world = World()
-    world.cycle.wait_until(1.0)  # the supervisor's raise ends then
+    world.machine.wait_until(1.0)  # the supervisor's raise ends then
     world.tick(0.5)
     world.target = "yellow"
     world.tick(0.2)
-    assert world.cycle.cycle.recognised_time == pytest.approx(0.6)
-    assert world.planner.asked == [] and world.cycle.cycle.phase is Phase.WATCH
+    assert world.machine.record.recognised_time == pytest.approx(0.6)
+    assert world.planner.asked == [] and world.machine.record.phase is Phase.WATCH
     world.tick(0.4)
     assert world.planner.asked == [("grasp", "yellow")]
 
@@ -189,11 +176,11 @@ def test_the_gripper_closes_only_once_the_approach_is_done():
     world = World()
     world.target = "yellow"
     world.tick(0.5)
-    assert world.cycle.cycle.phase is Phase.APPROACH
-    assert world.cycle.command(world.time)[2] == OPEN
-    np.testing.assert_allclose(world.cycle.gaze(), OBJECT)  # it watches its hand's work
+    assert world.machine.record.phase is Phase.APPROACH
+    assert world.machine.command(world.time)[2] == 0.1  # opened 10 cm to approach
+    np.testing.assert_allclose(world.machine.gaze(), OBJECT)  # it watches its hand's work
     world.until(Phase.GRASP)
-    assert world.cycle.command(world.time)[2] == CLOSED
+    assert world.machine.command(world.time)[2] == 0.0
 
 
 def test_lifted_it_looks_at_the_person_before_planning_the_carry():
@@ -201,11 +188,42 @@ def test_lifted_it_looks_at_the_person_before_planning_the_carry():
     world.until(Phase.LIFT)
     world.seen = OBJECT + [0, 0, 0.08]
     world.tick(1.05)  # the lift's 1 s motion done
-    assert world.cycle.cycle.phase is Phase.LIFT
-    np.testing.assert_allclose(world.cycle.gaze(), [1.7, 0.2, 1.2])  # the person's shoulder
+    assert world.machine.record.phase is Phase.LIFT
+    np.testing.assert_allclose(world.machine.gaze(), [1.7, 0.2, 1.2])  # the person's shoulder
     assert [ask[0] for ask in world.planner.asked] == ["grasp"]
     record = world.until(Phase.CARRY)
-    assert record.phase_times["carry"] - record.phase_times["lift"] >= 1.0 + LOOK_S
+    # The lift's 1 s motion from the next decision, then 0.8 s looking at the person.
+    looked = record.phase_times["carry"] - record.phase_times["lift"]
+    assert TICK + 1.0 + 0.8 - 1e-9 <= looked <= TICK + 1.0 + 0.8 + TICK + 1e-9
+
+
+def test_an_object_that_rose_only_2_cm_with_the_hand_is_a_missed_grasp():
+    world = _closed_on(0.06)
+    world.until(Phase.LIFT)
+    world.seen = OBJECT + [0, 0, 0.02]  # the fingers slid up it
+    record = world.until(Phase.FAILED)
+    assert record.failure is Failure.GRASP_MISSED and "rose 2.0 cm" in record.reason
+
+
+def test_an_object_that_rose_5_cm_with_the_hand_is_lifted():
+    world = _closed_on(0.06)
+    world.until(Phase.LIFT)
+    world.seen = OBJECT + [0, 0, 0.05]
+    assert world.until(Phase.CARRY).failure is None
+
+
+def test_a_request_for_an_object_out_of_view_is_planned_unseen_after_1_5_s():
+    """Watching a standing person's face, the table is below the camera's view: the head turns
+    to the object (0.6 rad at 0.8 rad/s) before the grasp is planned without it."""
+    world = World()
+    world.seen = None
+    world.target = "yellow"
+    world.tick(TICK)
+    assert world.machine.seeing() == "yellow"
+    world.tick(1.0)
+    assert world.planner.asked == []  # still looking for it
+    world.tick(1.0)
+    assert world.planner.asked == [("grasp", "yellow")]
 
 
 def test_an_unreachable_target_fails_with_the_planners_reason_once_patience_runs_out():
@@ -214,9 +232,9 @@ def test_an_unreachable_target_fails_with_the_planners_reason_once_patience_runs
     record = world.until(Phase.FAILED)
     assert record.failure is Failure.UNREACHABLE and "no base pose" in record.reason
     waited = record.phase_times["retreat"] - record.recognised_time
-    assert PATIENCE_S <= waited < PATIENCE_S + RETRY_EVERY_S + TICK
+    assert 6.0 <= waited < 6.0 + 1.0 + TICK  # 6 s of patience, a try each second
     tries = len(world.planner.asked) - 1  # the last ask is the retreat
-    assert tries == pytest.approx(PATIENCE_S / RETRY_EVERY_S + 1, abs=1)
+    assert tries == pytest.approx(6 / 1 + 1, abs=1)
 
 
 def test_a_grasp_blocked_for_a_while_is_tried_again_and_fetched_though_the_intent_moved_on():
@@ -227,8 +245,9 @@ def test_a_grasp_blocked_for_a_while_is_tried_again_and_fetched_though_the_inten
     record = world.until(Phase.APPROACH)
     assert record.target == "yellow" and record.failure is None
     assert world.planner.asked == [("grasp", "yellow")] * 3
+    # Tried again each second.
     assert record.phase_times["approach"] - record.recognised_time == pytest.approx(
-        2 * RETRY_EVERY_S, abs=TICK + 1e-9
+        2.0, abs=TICK + 1e-9
     )
 
 
@@ -237,32 +256,26 @@ def test_a_blocked_grasp_looks_at_the_object_while_it_waits():
     object, so the table before it comes into view for the next try."""
     world = World(Planner(grasp_failures=1))
     world.tick(1.0)
-    assert world.cycle.gaze() is None
+    assert world.machine.gaze() is None
     world.target = "yellow"
     world.tick(TICK)
-    assert world.cycle.cycle.phase is Phase.WATCH
-    np.testing.assert_allclose(world.cycle.gaze(), OBJECT)
+    assert world.machine.record.phase is Phase.WATCH
+    np.testing.assert_allclose(world.machine.gaze(), OBJECT)
 
 
 def test_a_gripper_closed_on_nothing_is_a_missed_grasp():
     world = _closed_on(0.0)
     record = world.until(Phase.FAILED)
     assert record.failure is Failure.GRASP_MISSED
-    assert record.phase_times["failed"] - record.phase_times["grasp"] >= SETTLE_S
+    # Judged once the gripper has had 0.8 s to close.
+    judged = record.phase_times["retreat"] - record.phase_times["grasp"]
+    assert judged == pytest.approx(0.8, abs=TICK + 1e-9)
 
 
 def test_an_object_that_stays_on_the_table_is_a_missed_grasp():
     world = _closed_on(0.06)
     record = world.until(Phase.FAILED)  # the camera still sees it where it stood
     assert record.failure is Failure.GRASP_MISSED and "rose 0.0 cm" in record.reason
-
-
-def _carrying() -> World:
-    world = _closed_on(0.06)
-    world.until(Phase.LIFT)
-    world.seen = OBJECT + [0, 0, 0.08]
-    world.until(Phase.CARRY)
-    return world
 
 
 def test_an_object_that_slips_out_during_the_carry_is_dropped():
@@ -274,14 +287,14 @@ def test_an_object_that_slips_out_during_the_carry_is_dropped():
 
 
 def test_an_object_taken_from_the_fingers_during_the_carry_is_handed_over():
-    """The moved layout's trial 2 of seed 2: a hand held out beside the carry's slow end took
-    the cup, and the robot, still carrying, called it dropped."""
+    """A hand held out beside the carry's slow end takes the cup: the robot, still carrying,
+    stands still and looks rather than calling it dropped."""
     world = _carrying()
     world.opening = 0.0
-    world.seen = OBJECT + [0.3, 0.0, STILL_UP + 0.1]  # up, in the person's hand
-    world.tick(EMPTY_S - TICK)
-    assert world.cycle.cycle.phase is Phase.PRESENT  # it stands still and looks first
-    np.testing.assert_array_equal(world.cycle.command(world.time)[1], 0.0)
+    world.seen = OBJECT + [0.3, 0.0, PARAMS.still_up + 0.1]  # up, in the person's hand
+    world.tick(PARAMS.empty_s - TICK)
+    assert world.machine.record.phase is Phase.PRESENT  # it stands still and looks first
+    np.testing.assert_array_equal(world.machine.command(world.time)[1], 0.0)
     record = world.until(Phase.DONE)
     assert record.failure is None and Phase.RELEASE.value in record.phase_times
 
@@ -289,28 +302,33 @@ def test_an_object_taken_from_the_fingers_during_the_carry_is_handed_over():
 def test_no_hand_in_time_fails_by_timeout_and_the_robot_keeps_the_object():
     world = _presenting()
     world.hand = world.palm + [0.5, 0.0, 0.0]  # in view, never near
-    record = world.until(Phase.FAILED, limit=WAIT_S + 5)
+    record = world.until(Phase.FAILED, limit=20.0)
     assert record.failure is Failure.TIMEOUT and "holding it" in record.reason
-    assert world.cycle.command(world.time)[2] == CLOSED
+    presented = record.phase_times["retreat"] - record.phase_times["present"]
+    assert presented == pytest.approx(12.0, abs=TICK + 1e-9)  # HandoverSim allows 13 s
+    assert world.machine.command(world.time)[2] == 0.0
     assert world.planner.asked[-1] == ("retreat", "the grasp", None)
 
 
 def test_a_person_out_of_sight_while_presenting_withdrew():
     world = _presenting()
     world.hand = None
-    world.tick(LOST_S + 0.5)
-    assert world.cycle.cycle.phase is Phase.PRESENT  # the hand hidden, the person in view
+    world.tick(PARAMS.lost_s + 0.5)
+    assert world.machine.record.phase is Phase.PRESENT  # the hand hidden, the person in view
     world.person = None
+    last_seen = world.time
     record = world.until(Phase.FAILED)
     assert record.failure is Failure.PERSON_WITHDREW
+    unseen = record.phase_times["retreat"] - last_seen
+    assert unseen == pytest.approx(2.0, abs=TICK + 1e-9)  # out of sight for 2 s
 
 
 def test_a_hand_in_view_at_the_object_is_a_person_in_view_though_the_shoulders_are_hidden():
     world = _presenting()
     world.person = None
     world.hand = world.palm + [0.5, 0.0, 0.0]  # in view, never near
-    world.tick(LOST_S + 1.0)
-    assert world.cycle.cycle.phase is Phase.PRESENT
+    world.tick(PARAMS.lost_s + 1.0)
+    assert world.machine.record.phase is Phase.PRESENT
     world.hand = None
     record = world.until(Phase.FAILED)
     assert record.failure is Failure.PERSON_WITHDREW
@@ -322,8 +340,8 @@ def test_a_face_over_the_object_is_a_person_in_view_though_the_body_is_hidden():
     world = _presenting()
     world.person, world.hand = None, None
     world.face = np.array([1.7, 0.2, 1.65])
-    world.tick(LOST_S + 1.0)
-    assert world.cycle.cycle.phase is Phase.PRESENT
+    world.tick(PARAMS.lost_s + 1.0)
+    assert world.machine.record.phase is Phase.PRESENT
     world.face = None
     record = world.until(Phase.FAILED)
     assert record.failure is Failure.PERSON_WITHDREW
@@ -333,11 +351,11 @@ def test_a_tug_at_the_object_makes_the_robot_let_go_though_the_hand_is_hidden():
     world = _presenting()
     world.pull = 0.005  # the arm's own sag
     world.tick(1.0)
-    assert world.cycle.cycle.phase is Phase.PRESENT
+    assert world.machine.record.phase is Phase.PRESENT
     world.pull = 0.02
     world.tick()
-    assert world.cycle.cycle.phase is Phase.RELEASE
-    assert world.cycle.command(world.time)[2] == pytest.approx(world.opening + LET_GO)
+    assert world.machine.record.phase is Phase.RELEASE
+    assert world.machine.command(world.time)[2] == pytest.approx(world.opening + 0.03)
 
 
 def _toward_person(world: World, newtons: float) -> np.ndarray:
@@ -347,26 +365,25 @@ def _toward_person(world: World, newtons: float) -> np.ndarray:
 
 def test_a_tug_felt_at_the_wrist_makes_the_robot_let_go_though_the_arm_does_not_give():
     world = _presenting()
-    world.wrist_force = world.wrist_force - _toward_person(world, TUG)  # a hand pushing in
+    world.wrist_force = world.wrist_force - _toward_person(world, PARAMS.tug)  # a hand pushing in
     world.tick(1.0)
-    assert world.cycle.cycle.phase is Phase.PRESENT
-    world.wrist_force = np.array([0.0, 0.0, -WEIGHT]) + _toward_person(world, TUG / 2)
+    assert world.machine.record.phase is Phase.PRESENT
+    world.wrist_force = np.array([0.0, 0.0, -WEIGHT]) + _toward_person(world, PARAMS.tug / 2)
     world.tick(1.0)  # the arm's own sway
-    assert world.cycle.cycle.phase is Phase.PRESENT
+    assert world.machine.record.phase is Phase.PRESENT
     sideways = np.cross(_toward_person(world, 1.0), [0.0, 0.0, 1.0])
-    world.wrist_force = (
-        np.array([0.0, 0.0, -WEIGHT]) + _toward_person(world, TUG + 1) + 2 * TUG * sideways
-    )
+    hanging = np.array([0.0, 0.0, -WEIGHT])
+    world.wrist_force = hanging + _toward_person(world, PARAMS.tug + 1) + 2 * PARAMS.tug * sideways
     world.tick(2 * TICK)  # a hand closing from the side pushes the object across
-    assert world.cycle.cycle.phase is Phase.PRESENT
-    world.wrist_force = np.array([0.0, 0.0, -WEIGHT]) + _toward_person(world, 2 * TUG)
+    assert world.machine.record.phase is Phase.PRESENT
+    world.wrist_force = np.array([0.0, 0.0, -WEIGHT]) + _toward_person(world, 2 * PARAMS.tug)
     world.tick()  # one knock of a hand on its way in is not a hold
-    assert world.cycle.cycle.phase is Phase.PRESENT
+    assert world.machine.record.phase is Phase.PRESENT
     world.wrist_force = np.array([0.0, 0.0, -WEIGHT])
     world.tick()
-    world.wrist_force = np.array([0.0, 0.0, -WEIGHT]) + _toward_person(world, 2 * TUG)
+    world.wrist_force = np.array([0.0, 0.0, -WEIGHT]) + _toward_person(world, 2 * PARAMS.tug)
     world.tick(2 * TICK)  # pulled and still pulled
-    assert world.cycle.cycle.phase is Phase.RELEASE and world.cycle.cycle.failure is None
+    assert world.machine.record.phase is Phase.RELEASE and world.machine.record.failure is None
 
 
 def test_fingers_closing_soon_after_a_tug_with_the_hand_hidden_is_a_handover_not_a_drop():
@@ -375,14 +392,14 @@ def test_fingers_closing_soon_after_a_tug_with_the_hand_hidden_is_a_handover_not
     world.tick()
     assert world.planner.asked[-1][0] == "follow"
     world.hand = None  # hidden behind the robot's own arm from here on
-    world.wrist_force = np.array([0.0, 0.0, -WEIGHT]) + _toward_person(world, 2 * TUG)
+    world.wrist_force = np.array([0.0, 0.0, -WEIGHT]) + _toward_person(world, 2 * PARAMS.tug)
     world.tick(2 * TICK)  # taken hold of on the way: the arm stops to feel again
-    assert world.cycle.cycle.phase is Phase.PRESENT
+    assert world.machine.record.phase is Phase.PRESENT
     world.wrist_force = np.array([0.0, 0.0, -WEIGHT])  # the fingers slip off the object
-    world.tick(TAKEN_S - 2 * TICK)
+    world.tick(PARAMS.taken_s - 2 * TICK)
     world.opening = 0.0  # drawn out of the fingers before the robot had let go
     world.tick()
-    assert world.cycle.cycle.phase is Phase.RELEASE and world.cycle.cycle.failure is None
+    assert world.machine.record.phase is Phase.RELEASE and world.machine.record.failure is None
 
 
 def test_a_hand_held_out_elsewhere_is_followed():
@@ -392,35 +409,35 @@ def test_a_hand_held_out_elsewhere_is_followed():
     name, goal = world.planner.asked[-1]
     assert name == "follow"
     # The object is brought in front of the fingers, not into the wrist.
-    np.testing.assert_allclose(goal, world.hand - [0.0, OFFER, 0.0])
-    assert world.cycle.command(world.time + 0.25)[0] is not None
+    np.testing.assert_allclose(goal, world.hand - [0.0, PARAMS.offer, 0.0])
+    assert world.machine.command(world.time + 0.25)[0] is not None
 
 
 def test_a_hand_held_out_short_of_the_object_and_waiting_gets_the_object_brought_to_it():
     world = _presenting()
     world.hand = world.palm + [0.3, 0.0, 0.1]  # held out 32 cm off, below the shoulder
-    world.tick(NUDGE_S - TICK)
+    world.tick(PARAMS.nudge_s - TICK)
     assert world.planner.asked[-1][0] == "carry"  # a hand this near may be reaching
     world.tick(2 * TICK)
     name, goal = world.planner.asked[-1]
     assert name == "follow"
-    np.testing.assert_allclose(np.linalg.norm(goal - world.hand), OFFER)
+    np.testing.assert_allclose(np.linalg.norm(goal - world.hand), PARAMS.offer)
 
 
 def test_a_hand_seen_on_its_way_out_waits_from_where_it_stops():
     world = _presenting()
-    for k in range(10):  # coming out over a second, nearer than FOLLOW_BEYOND, then still
+    for k in range(10):  # coming out over a second, nearer than follow_beyond, then still
         world.hand = world.palm + [0.42 - 0.015 * k, 0.0, 0.1]
         world.tick()
-    world.tick(NUDGE_S - TICK)
-    assert world.planner.asked[-1][0] == "carry"  # still for less than NUDGE_S
+    world.tick(PARAMS.nudge_s - TICK)
+    assert world.planner.asked[-1][0] == "carry"  # still for less than nudge_s
     world.tick(2 * TICK)
     assert world.planner.asked[-1][0] == "follow"
 
 
 def test_a_hand_that_moves_is_not_followed_however_long_it_takes():
     world = _presenting()
-    for k in range(int(2 * NUDGE_S / TICK)):
+    for k in range(int(2 * PARAMS.nudge_s / TICK)):
         world.hand = world.palm + [0.3 - 0.01 * k, 0, 0.1]  # reaching for the object
         world.tick()
     assert world.planner.asked[-1][0] == "carry"
@@ -432,17 +449,17 @@ def test_a_followed_hand_that_comes_for_the_object_stops_the_arm_where_it_is():
     world.hand = held_out
     world.tick()
     assert world.planner.asked[-1][0] == "follow"
-    world.hand = held_out + [0.01, -COMING / 2, 0.0]  # the wrist's keypoint wanders
+    world.hand = held_out + [0.01, -PARAMS.coming / 2, 0.0]  # the wrist's keypoint wanders
     world.tick()
-    assert world.cycle.command(world.time + 0.3)[0] is not None  # still on its way
-    world.hand = held_out + [0.0, -1.5 * COMING, 0.0]  # the person reaches for it
+    assert world.machine.command(world.time + 0.3)[0] is not None  # still on its way
+    world.hand = held_out + [0.0, -1.5 * PARAMS.coming, 0.0]  # the person reaches for it
     world.tick()
     q = world.q.copy()
-    np.testing.assert_allclose(world.cycle.command(world.time + 0.3)[0], q)  # stopped there
+    np.testing.assert_allclose(world.machine.command(world.time + 0.3)[0], q)  # stopped there
     world.hand = None  # hidden by the robot's own arm: it stays stopped
     world.tick(0.5)
-    np.testing.assert_allclose(world.cycle.command(world.time)[0], q)
-    assert world.cycle.cycle.phase is Phase.PRESENT
+    np.testing.assert_allclose(world.machine.command(world.time)[0], q)
+    assert world.machine.record.phase is Phase.PRESENT
 
 
 def test_a_tug_while_following_the_hand_stops_the_arm_and_then_it_lets_go():
@@ -452,59 +469,59 @@ def test_a_tug_while_following_the_hand_stops_the_arm_and_then_it_lets_go():
     assert world.planner.asked[-1][0] == "follow"
     world.pull = 0.02  # taken hold of on the way
     world.tick()
-    assert world.cycle.cycle.phase is Phase.PRESENT
+    assert world.machine.record.phase is Phase.PRESENT
     q = world.q.copy()
-    np.testing.assert_allclose(world.cycle.command(world.time + 0.3)[0], q)  # stopped there
+    np.testing.assert_allclose(world.machine.command(world.time + 0.3)[0], q)  # stopped there
     world.tick()  # still pulled, standing still
-    assert world.cycle.cycle.phase is Phase.RELEASE
+    assert world.machine.record.phase is Phase.RELEASE
 
 
 def test_an_object_drawn_out_of_the_fingers_by_a_hand_at_it_is_handed_over_not_dropped():
     world = _presenting()
-    world.hand = world.palm + [0.0, 0.0, REACH - 0.02]
+    world.hand = world.palm + [0.0, 0.0, PARAMS.reach - 0.02]
     world.tick()
-    world.hand = world.palm + [0.0, 0.0, REACH + 0.2]  # the arm draws it in
-    world.tick(TAKEN_S - 2 * TICK)
+    world.hand = world.palm + [0.0, 0.0, PARAMS.reach + 0.2]  # the arm draws it in
+    world.tick(PARAMS.taken_s - 2 * TICK)
     world.opening = 0.0  # pulled out before the robot had let go
     world.tick()
-    assert world.cycle.cycle.phase is Phase.RELEASE and world.cycle.cycle.failure is None
+    assert world.machine.record.phase is Phase.RELEASE and world.machine.record.failure is None
 
 
 def test_fingers_forced_apart_by_the_object_drawn_through_them_make_it_let_go():
     world = _presenting()  # closed on 6 cm
-    world.opening = 0.06 + SPREAD / 2  # the pads give a little as it is held out
+    world.opening = 0.06 + PARAMS.spread / 2  # the pads give a little as it is held out
     world.tick(1.0)
-    assert world.cycle.cycle.phase is Phase.PRESENT
-    world.opening = 0.06 + 2 * SPREAD
+    assert world.machine.record.phase is Phase.PRESENT
+    world.opening = 0.06 + 2 * PARAMS.spread
     world.tick()
-    assert world.cycle.cycle.phase is Phase.RELEASE and world.cycle.cycle.failure is None
+    assert world.machine.record.phase is Phase.RELEASE and world.machine.record.failure is None
 
 
 def test_fingers_forced_apart_by_a_knock_across_do_not_make_it_let_go():
     """A hand striking the object on its way in forces the fingers open too, with a load felt
-    across (the reference run's trial 25): the robot holds on; drawn toward the person, or
+    across (18 N sideways): the robot holds on; drawn toward the person, or
     forced open with no load felt, it lets go."""
     world = _presenting()
     sideways = np.cross(_toward_person(world, 1.0), [0.0, 0.0, 1.0])
-    world.opening = 0.06 + 2 * SPREAD
-    world.wrist_force = np.array([0.0, 0.0, -WEIGHT]) + 3 * TUG * sideways
+    world.opening = 0.06 + 2 * PARAMS.spread
+    world.wrist_force = np.array([0.0, 0.0, -WEIGHT]) + 3 * PARAMS.tug * sideways
     world.tick(0.5)
-    assert world.cycle.cycle.phase is Phase.PRESENT
-    world.wrist_force = np.array([0.0, 0.0, -WEIGHT]) + _toward_person(world, 3 * TUG)
+    assert world.machine.record.phase is Phase.PRESENT
+    world.wrist_force = np.array([0.0, 0.0, -WEIGHT]) + _toward_person(world, 3 * PARAMS.tug)
     world.tick()
-    assert world.cycle.cycle.phase is Phase.RELEASE and world.cycle.cycle.failure is None
+    assert world.machine.record.phase is Phase.RELEASE and world.machine.record.failure is None
 
 
 def test_fingers_closing_with_no_hand_at_the_object_lately_is_a_drop():
     world = _presenting()
-    world.hand = world.palm + [0.0, 0.0, REACH - 0.02]
+    world.hand = world.palm + [0.0, 0.0, PARAMS.reach - 0.02]
     world.tick()
-    world.hand = world.palm + [0.0, 0.0, REACH + 0.2]
-    world.tick(TAKEN_S + TICK)
+    world.hand = world.palm + [0.0, 0.0, PARAMS.reach + 0.2]
+    world.tick(PARAMS.taken_s + TICK)
     world.opening = 0.0
     world.seen = OBJECT.copy()  # fallen back onto the table
-    world.tick(EMPTY_S - TICK)
-    assert world.cycle.cycle.phase is Phase.PRESENT  # it looks where the object went first
+    world.tick(PARAMS.empty_s - TICK)
+    assert world.machine.record.phase is Phase.PRESENT  # it looks where the object went first
     record = world.until(Phase.FAILED)
     assert record.failure is Failure.DROPPED
 
@@ -515,25 +532,26 @@ def test_fingers_emptied_by_a_pull_across_with_the_hand_and_object_unseen_is_a_h
     and up within one decision. The robot lets go rather than calling it dropped."""
     world = _presenting()
     across = np.cross(_toward_person(world, 1.0), [0.0, 0.0, 1.0])
-    world.wrist_force = np.array([0.0, 0.0, -WEIGHT]) + 3 * TUG * across
+    world.wrist_force = np.array([0.0, 0.0, -WEIGHT]) + 3 * PARAMS.tug * across
     world.tick(TICK)  # pulled across, long before the fingers empty
     world.wrist_force = np.array([0.0, 0.0, -WEIGHT])
-    world.tick(TAKEN_S + TICK)
+    world.tick(PARAMS.taken_s + TICK)
     world.opening = 0.0
-    world.tick(EMPTY_S - TICK)
-    assert world.cycle.cycle.phase is Phase.PRESENT  # too long ago: it looks first
+    world.tick(PARAMS.empty_s - TICK)
+    assert world.machine.record.phase is Phase.PRESENT  # too long ago: it looks first
     world.opening = 0.06
     world.tick()
-    world.wrist_force = np.array([0.0, 0.0, -WEIGHT + 2 * TUG]) + 2 * TUG * across
+    world.wrist_force = np.array([0.0, 0.0, -WEIGHT + 2 * PARAMS.tug]) + 2 * PARAMS.tug * across
     world.tick()  # yanked across and up
     world.opening = 0.0
     world.tick()
-    assert world.cycle.cycle.phase is Phase.RELEASE and world.cycle.cycle.failure is None
+    assert world.machine.record.phase is Phase.RELEASE and world.machine.record.failure is None
 
 
 def test_a_heavy_object_slipping_out_is_dropped_though_its_weight_is_over_a_tug():
     world = _presenting()
-    world.wrist_force = np.array([0.0, 0.0, -WEIGHT + 2 * TUG])  # its weight going, still held
+    # Its weight going from the fingers, still held.
+    world.wrist_force = np.array([0.0, 0.0, -WEIGHT + 2 * PARAMS.tug])
     world.tick(3 * TICK)
     world.opening = 0.0
     world.seen = OBJECT.copy()  # fallen back onto the table
@@ -546,10 +564,10 @@ def test_fingers_closing_with_the_object_still_up_and_the_hand_unseen_is_a_hando
     the person: the camera sees the object still up, in the person's hand."""
     world = _presenting()
     world.opening = 0.0
-    world.seen = OBJECT + [0.3, 0.0, STILL_UP + 0.1]
-    world.tick(EMPTY_S - TICK)
-    assert world.cycle.cycle.phase is Phase.PRESENT
-    np.testing.assert_array_equal(world.cycle.command(world.time)[1], 0.0)  # standing still
+    world.seen = OBJECT + [0.3, 0.0, PARAMS.still_up + 0.1]
+    world.tick(PARAMS.empty_s - TICK)
+    assert world.machine.record.phase is Phase.PRESENT
+    np.testing.assert_array_equal(world.machine.command(world.time)[1], 0.0)  # standing still
     record = world.until(Phase.DONE)
     assert record.failure is None and Phase.RELEASE.value in record.phase_times
 
@@ -559,21 +577,43 @@ def test_a_copy_steps_on_its_own():
     world = World()
     world.target = "yellow"
     world.tick()
-    clone = copy.deepcopy(world.cycle)
+    clone = copy.deepcopy(world.machine)
     world.until(Phase.GRASP)
-    assert clone.cycle.phase is Phase.APPROACH
-    assert "grasp" not in clone.cycle.phase_times
+    assert clone.record.phase is Phase.APPROACH
+    assert "grasp" not in clone.record.phase_times
+
+
+def test_a_copy_presenting_feels_and_moves_on_its_own():
+    """A copy made while presenting keeps its own memory of tugs and of the arm's motions: the
+    original feeling a tug and stopping leaves the copy following the hand."""
+    world = _presenting()
+    world.hand = world.palm + [0.0, 0.5, 0.0]
+    world.tick()  # it sets off toward the hand
+    clone = copy.deepcopy(world.machine)
+    world.wrist_force = np.array([0.0, 0.0, -WEIGHT]) + _toward_person(world, 10.0)
+    world.tick(3 * TICK)  # a tug felt twice stops the arm; felt again standing, it lets go
+    assert world.machine.record.phase is Phase.RELEASE
+    assert clone.record.phase is Phase.PRESENT
+    assert clone.command(world.time)[0] is not None and clone.command(world.time)[1].any()
+
+
+def test_every_phase_but_those_it_ends_in_has_one_handler():
+    handled = HandoverCycle.handled_phases()
+    for phase in Phase:
+        assert (phase in handled) is (phase not in TERMINAL_PHASES), phase
+        assert CycleRecord(phase).over is (phase in TERMINAL_PHASES)
+    assert TERMINAL_PHASES == {Phase.DONE, Phase.FAILED}
 
 
 def test_fingers_that_hold_again_restart_the_wait_before_judging_them_empty():
     world = _presenting()
     world.opening, world.seen = 0.0, OBJECT.copy()  # a glitch: empty for a moment
-    world.tick(EMPTY_S - 2 * TICK)
+    world.tick(PARAMS.empty_s - 2 * TICK)
     world.opening = 0.06  # holding again
     world.tick(1.0)
     world.opening = 0.0  # now empty for good
-    world.tick(EMPTY_S - TICK)
-    assert world.cycle.cycle.phase is Phase.PRESENT  # waited afresh, not judged at once
+    world.tick(PARAMS.empty_s - TICK)
+    assert world.machine.record.phase is Phase.PRESENT  # waited afresh, not judged at once
     assert world.until(Phase.FAILED).failure is Failure.DROPPED
 
 
@@ -592,7 +632,7 @@ def test_a_correction_while_carrying_puts_the_object_back_and_fetches_the_one_as
     carried_to = world.q.copy()
     world.correction = "red"
     world.tick()
-    record = world.cycle.cycle
+    record = world.machine.record
     assert record.phase is Phase.PUT_BACK and record.first_target == "yellow"
     assert record.corrected_time == pytest.approx(world.time)
     assert record.target == "yellow"  # still the one in the hand, until it is back
@@ -600,26 +640,26 @@ def test_a_correction_while_carrying_puts_the_object_back_and_fetches_the_one_as
     lifted = np.full(3, 3.0)  # where the fake grasp's lift ended
     ask = world.planner.asked[-1]
     assert ask[:3] == ("put back", "the grasp", tuple(lifted)) and ask[3] > 2  # the way it came
-    assert world.cycle.command(world.time)[2] == CLOSED  # it holds the object on the way back
+    assert world.machine.command(world.time)[2] == 0.0  # it holds the object on the way back
     world.tick(2.5)  # back over its place, then down (two 1 s moves)
-    assert np.allclose(world.q, lifted - 1) and world.cycle.command(world.time)[2] == OPEN
-    assert world.cycle.cycle.phase is Phase.PUT_BACK  # the fingers open before it leaves
+    assert np.allclose(world.q, lifted - 1) and world.machine.command(world.time)[2] == 0.1
+    assert world.machine.record.phase is Phase.PUT_BACK  # the fingers open before it leaves
     world.opening = 0.1
     world.until(Phase.WATCH)
     assert world.planner.asked[-1] == ("back off", "the grasp")  # off what it let go of
     assert np.allclose(world.q, lifted - 1.5)  # and then it plans from there
-    assert world.cycle.cycle.target == "red"
+    assert world.machine.record.target == "red"
     world.seen = OBJECT + [0.0, 0.2, 0.0]  # the red one, where it stands
     world.until(Phase.APPROACH)  # the estimator's first target stays: it fetches the new one
     assert world.planner.asked[-1] == ("grasp", "red")
-    assert not np.allclose(carried_to, world.q) and world.cycle.cycle.failure is None
+    assert not np.allclose(carried_to, world.q) and world.machine.record.failure is None
 
 
 def test_a_correction_is_heeded_once_and_not_for_the_object_in_hand():
     world = _carrying()
     world.correction = "yellow"  # the object it carries: nothing to correct
     world.tick(0.3)
-    assert world.cycle.cycle.phase is Phase.CARRY and world.cycle.cycle.first_target is None
+    assert world.machine.record.phase is Phase.CARRY and world.machine.record.first_target is None
     world.correction = "red"
     world.until(Phase.PUT_BACK)
     world.opening = 0.1
@@ -631,7 +671,7 @@ def test_a_correction_is_heeded_once_and_not_for_the_object_in_hand():
     world.seen = OBJECT + [0.0, 0.2, 0.08]
     world.correction = "blue"  # a second correction: the robot goes on with the first
     world.until(Phase.CARRY)
-    assert world.cycle.cycle.target == "red" and world.cycle.cycle.first_target == "yellow"
+    assert world.machine.record.target == "red" and world.machine.record.first_target == "yellow"
 
 
 def test_a_correction_before_the_lift_is_seen_to_succeed_waits_for_it():
@@ -640,7 +680,7 @@ def test_a_correction_before_the_lift_is_seen_to_succeed_waits_for_it():
     world = _closed_on(0.06)
     world.correction = "red"
     world.until(Phase.LIFT)
-    assert world.cycle.cycle.first_target is None
+    assert world.machine.record.first_target is None
     world.seen = OBJECT + [0, 0, 0.08]
     world.until(Phase.PUT_BACK)
     world.tick()
@@ -667,4 +707,4 @@ def test_with_no_way_straight_off_the_object_put_back_it_retreats_then_fetches_t
     assert world.planner.asked[-1] == ("retreat", None, "the grasp")
     world.seen = OBJECT + [0.0, 0.2, 0.0]
     world.until(Phase.APPROACH)
-    assert world.planner.asked[-1] == ("grasp", "red") and world.cycle.cycle.failure is None
+    assert world.planner.asked[-1] == ("grasp", "red") and world.machine.record.failure is None

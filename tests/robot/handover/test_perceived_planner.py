@@ -54,13 +54,13 @@ def test_a_hand_beyond_the_arms_reach_is_followed_with_a_step_of_the_base(planne
 
 
 def test_a_hand_whose_forearm_covers_the_aim_gets_the_object_beside_it():
-    """The aim in front of a held-out hand lies inside the perceived forearm's capsule (the
-    reference run's trial 53): the object is held out beside it instead."""
+    """The aim in front of a held-out hand lies inside the perceived forearm's capsule: the
+    object is held out beside it instead."""
     scene_planner = PerceivedPlanner(load_or_build()[0])
     scene_planner.perceive(PerceivedScene(None), ())
     q = _arm_out(scene_planner)
-    # As in trial 53: the wrist 32 cm beyond the object, its capsule running on 18 cm past it
-    aim = scene_planner.palm(q) + [0.12, 0.0, 0.0]  # OFFER (20 cm) in front of the wrist
+    # The wrist 32 cm beyond the object, its capsule running on 18 cm past it
+    aim = scene_planner.palm(q) + [0.12, 0.0, 0.0]  # `CycleParams.offer` (20 cm) before it
     forearm = Capsule(aim + [0.46, 0.0, 0.0], aim + [0.02, 0.0, 0.0], 0.095)
     scene_planner.perceive(PerceivedScene(None, person=(forearm,)), ())
     planned = scene_planner.follow(q, np.zeros_like(q), aim, None)

@@ -52,8 +52,8 @@ def _box(center, size, yaw: float, height: float = 0.1) -> ObjectShape:
 
 
 def test_an_object_partly_hidden_where_it_stood_is_kept_as_seen_whole():
-    """The standing layout's trial 8 of seed 2: the box seen whole, then past a pointing arm
-    1 cm off, 5.7 cm long rather than 7 and turned 9.6 degrees."""
+    """A box seen whole, then past a pointing arm 1 cm off, 5.7 cm long rather than 7 and
+    turned 9.6 degrees."""
     whole = _box([0.7996, 0.2015], [0.0499, 0.0697], -1.173)
     hidden = _box([0.7918, 0.1949], [0.0484, 0.0574], -1.336)
     last = PerceivedScene(TABLE, (whole,), ())
@@ -80,8 +80,8 @@ def _view_from_above(depth_value: float) -> DepthView:
 
 
 def test_a_part_not_seen_is_forgotten_where_the_camera_now_sees_through_its_place():
-    """The staggered layout's trial 21 of seed 1: the pointing forearm, lowered under the
-    table's edge, was planned around where it pointed for the rest of the trial."""
+    """A pointing forearm lowered under the table's edge is not planned around where it
+    pointed for the rest of the handover."""
     forearm = Capsule(np.array([1.3, -0.1, 0.86]), np.array([0.9, -0.1, 0.9]), 0.095, "fore")
     last = PerceivedScene(TABLE, (), (forearm, *_capsules(1)))
     table_seen = 3.0 - 0.72  # the camera sees the table's top past where the arm was
@@ -103,7 +103,7 @@ def test_a_part_not_seen_is_forgotten_where_the_camera_now_sees_through_its_plac
 
 def test_an_arm_unseen_for_a_while_is_forgotten_while_the_person_is_seen():
     """Its wrist lifted onto the object it pointed at, the lowered arm lay along the camera's
-    line of sight through the object: no view saw through it (trial 21 of seed 1)."""
+    line of sight through the object: no view saw through it."""
     arm = ("r_shoulder-r_elbow", "r_elbow-r_wrist")
     parts_then = (*arm, "neck-nose")
     seen_then = tuple(dataclasses.replace(capsule, part=part, seen_at=6.0)

@@ -11,7 +11,8 @@ from hsr_handover.hsr import COMMANDED_JOINTS
 from hsr_handover.interface.coco18 import keypoint_index
 from hsr_handover.robot.effectivity.arm_map import load_or_build
 from hsr_handover.robot.effectivity.person_map import SHOULDER_DEPTH, receiving_arms
-from hsr_handover.robot.handover.cycle import PATIENCE_S, SEEK_S, Failure, Phase
+from hsr_handover.robot.handover.cycle_params import CycleParams
+from hsr_handover.robot.handover.cycle_types import Failure, Phase
 from hsr_handover.robot.handover.look_round import (
     LOOK_AROUND_PANS,
     LOOK_DWELL_S,
@@ -33,6 +34,7 @@ from tests.robot.intent.synthetic_person import TRUE_FACE_TILT, keypoints
 
 PAN = COMMANDED_JOINTS.index("head_pan_joint")
 OPENING = 0.02
+PARAMS = CycleParams()
 
 
 @pytest.fixture
@@ -78,8 +80,8 @@ def test_it_looks_round_the_table_then_holds_the_ready_posture(supervisor):
 def test_a_request_for_an_object_it_never_perceived_fails_as_unreachable(supervisor):
     system, context, ready = supervisor
     system.GetInputPort("intent").FixValue(context, IntentState(target="purple"))
-    # It looks for the object for SEEK_S, then plans for PATIENCE_S.
-    Simulator(system, context).AdvanceTo(LOOK_ROUND_S + SEEK_S + PATIENCE_S + 1.0)
+    # It looks for the object for seek_s, then plans for patience_s.
+    Simulator(system, context).AdvanceTo(LOOK_ROUND_S + PARAMS.seek_s + PARAMS.patience_s + 1.0)
     cycle = system.GetOutputPort("cycle").Eval(context)
     assert cycle.phase is Phase.FAILED and cycle.failure is Failure.UNREACHABLE
     assert cycle.target == "purple" and "purple" in cycle.reason
@@ -94,8 +96,8 @@ def test_while_it_lifts_it_watches_for_a_correction_itself_on_its_own_frames():
     cups = {"green": np.array([0.80, 0.0, 0.77]), "blue": np.array([0.80, 0.22, 0.77])}
     recognised = IntentState("green", 1.0, 3.0, objects=tuple(cups.items()))
     system.GetInputPort("intent").FixValue(context, recognised)
-    memory = context.get_mutable_abstract_state(0).get_mutable_value()
-    memory.cycle.cycle.phase, memory.cycle.cycle.target = Phase.LIFT, "green"
+    record = system.memory(context).machine.record
+    record.phase, record.target = Phase.LIFT, "green"
     resting, confidence = keypoints(look_at=cups["green"])
     blue, _ = keypoints(look_at=cups["blue"], point_with="right", point_at=cups["blue"])
     corrections = []
@@ -104,8 +106,7 @@ def test_while_it_lifts_it_watches_for_a_correction_itself_on_its_own_frames():
         skeleton = Skeleton(np.zeros((18, 2)), points, confidence)
         system.GetInputPort("skeleton").FixValue(context, skeleton)
         context.SetTime(LOOK_ROUND_S + 0.1 * step)
-        memory = context.get_mutable_abstract_state(0).get_mutable_value()
-        corrections.append(system._correction(context, skeleton, memory))
+        corrections.append(system._correction(context, skeleton, system.memory(context)))
     assert corrections[:15] == [None] * 15 and corrections[-1] == "blue"
     assert system.GetOutputPort("watching").Eval(context)[0] == 0.0  # the estimator rests
 
@@ -151,13 +152,13 @@ def test_the_persons_arm_faces_the_way_the_chest_faced_while_it_watched(supervis
     skeleton = Skeleton(np.zeros((18, 2)), points, confidence, torso_forward=facing)
     system.GetInputPort("skeleton").FixValue(context, skeleton)
     Simulator(system, context).AdvanceTo(0.55)
-    memory = context.get_abstract_state(0).get_value()
+    memory = system.memory(context)
     np.testing.assert_allclose(memory.arms[0].frame[:, 0], facing, atol=1e-9)
-    memory.cycle.cycle.phase = Phase.APPROACH  # acting: the chest may read the robot's arm
+    memory.machine.record.phase = Phase.APPROACH  # acting: the chest may read the robot's arm
     wrong = Skeleton(np.zeros((18, 2)), points, confidence, torso_forward=np.array([0, 1.0, 0]))
     system.GetInputPort("skeleton").FixValue(context, wrong)
     Simulator(system, context).AdvanceTo(1.55)
-    memory = context.get_abstract_state(0).get_value()
+    memory = system.memory(context)
     np.testing.assert_allclose(memory.facing.direction(), facing, atol=1e-9)
     np.testing.assert_allclose(memory.arms[0].frame[:, 0], facing, atol=1e-9)
 
@@ -220,7 +221,7 @@ def test_a_request_recognised_while_it_rises_is_planned_for_once_it_has_risen(su
     with a step in the commanded velocity. The recognition is recorded when it comes."""
     system, context, _ = supervisor
     _watched_from(system, context, _boxes(0.86), until=LOOK_ROUND_S + 0.05)  # it may act
-    raised = context.get_abstract_state(0).get_value().view.raised
+    raised = system.memory(context).view.raised
     assert raised is not None and raised.end > context.get_time() + 0.3  # still rising
     recognised = context.get_time() + 0.1
     system.GetInputPort("intent").FixValue(context, IntentState(target="yellow"))

@@ -1,0 +1,152 @@
+"""What the perceiving-acting cycle (paper 3.3) works on and gives: its phases and failures,
+the percepts it decides from, the planner it asks and the motions it gets back, and its
+record. Plain Python: `cycle.HandoverCycle` is the machine that uses them."""
+
+from __future__ import annotations
+
+import dataclasses
+import enum
+import math
+from typing import Protocol
+
+import numpy as np
+
+from hsr_handover.robot.handover.plan_view import PlanView
+
+
+class Phase(enum.Enum):
+    WATCH = "watch"
+    APPROACH = "approach"  # to the pre-grasp, then along the approach
+    GRASP = "grasp"  # the gripper closing
+    LIFT = "lift"
+    CARRY = "carry"  # to the handover point
+    PUT_BACK = "put_back"  # the person asked for another object: the one lifted goes back
+    PRESENT = "present"  # waiting for the person's hand
+    RELEASE = "release"  # the gripper opening
+    RETREAT = "retreat"
+    DONE = "done"
+    FAILED = "failed"
+
+
+TERMINAL_PHASES = frozenset({Phase.DONE, Phase.FAILED})
+"""The phases a cycle ends in: nothing is done in them."""
+
+
+class Failure(enum.Enum):
+    """Why a cycle failed (HandoverSim's classes and ours)."""
+
+    UNREACHABLE = "unreachable"
+    GRASP_MISSED = "grasp missed"
+    DROPPED = "dropped"
+    PERSON_WITHDREW = "person withdrew"
+    TIMEOUT = "timeout"
+
+
+class Motion(Protocol):
+    """A timed motion over the planning plant's positions."""
+
+    duration: float
+
+    def state(self, time: float) -> tuple[np.ndarray, np.ndarray]:
+        """Positions and velocities at `time` s from its start (held at its ends)."""
+
+
+@dataclasses.dataclass(frozen=True)
+class Percepts:
+    """What the robot knows at `time` s: its measured positions `q` (planning plant order), the
+    gripper's measured `opening` (m), the `target` recognised (None until one is), the target
+    object's centre as the camera sees it now (`object_seen`, None when not in view), the
+    receiving hand from the skeleton (`hand`, None when not seen), the palm's point by forward
+    kinematics of `q` (`palm`), a point on the person's body seen now (`person`: the
+    receiving shoulder, or else the neck or a shoulder; None when none is in view), how far
+    the joint sensors put the palm from where it is commanded (`pull`, m: a person tugging at
+    the object held), the force the hand and its load exert on the wrist's sensor
+    (`wrist_force`, N, world; None without the sensor) and a point of the person's face seen
+    now (`face`: the nose, an eye or an ear; None when none is), and another object the person
+    asked for after the target (`correction`, None if none)."""
+
+    time: float
+    q: np.ndarray
+    opening: float
+    target: str | None = None
+    object_seen: np.ndarray | None = None
+    hand: np.ndarray | None = None
+    palm: np.ndarray | None = None
+    person: np.ndarray | None = None
+    pull: float = 0.0
+    wrist_force: np.ndarray | None = None
+    face: np.ndarray | None = None
+    correction: str | None = None
+
+
+@dataclasses.dataclass(frozen=True)
+class PlannedMotions:
+    """A planner's answer: `ok` with the `motions` in order, or not with the `reason`; the
+    wall `seconds` it took; a carry's `receiving` side ("r" or "l": the person's arm it
+    hands to)."""
+
+    ok: bool
+    reason: str
+    motions: tuple[tuple[str, Motion], ...] = ()
+    seconds: float = 0.0
+    held: object = None  # a grasp's: the object as the hand will hold it, for later plans
+    view: PlanView | None = None  # what the plan shows in the replay
+    receiving: str = ""
+
+
+class CyclePlanner(Protocol):
+    """The motions the cycle asks for, planned from what the robot perceives."""
+
+    def grasp(self, label: str, q: np.ndarray) -> PlannedMotions:
+        """To the pre-grasp and along the approach (gripper open), then the lift ("lift",
+        gripper closed), as named motions."""
+
+    def carry(self, q: np.ndarray, held: object) -> PlannedMotions:
+        """From the lifted object to the handover point, holding the grasp's `held`."""
+
+    def follow(self, q: np.ndarray, v: np.ndarray, aim: np.ndarray, held: object) -> PlannedMotions:
+        """State to state, to hold the object out at `aim` (m, world: `CycleParams.offer` in
+        front of the person's hand), or beside it where the person's perceived hand leaves no
+        room there."""
+
+    def retreat(self, q: np.ndarray, held: object, let_go: object = None) -> PlannedMotions:
+        """Back to the ready posture, with the object `held` or (None) without; `let_go` is the
+        object just let go of (or missed), still between the fingers, to back away from."""
+
+    def put_back(
+        self, q: np.ndarray, held: object, lifted: np.ndarray, came: list[np.ndarray]
+    ) -> PlannedMotions:
+        """Holding `held`, back to `lifted` (the configuration the grasp's lift ended in) along
+        the way it `came` from there (configurations, possibly none), then down to where it
+        was grasped."""
+
+    def back_off(self, q: np.ndarray, let_go: object) -> PlannedMotions:
+        """The hand straight back from the object just let go of (no motion when it is clear
+        of it already)."""
+
+
+@dataclasses.dataclass
+class CycleRecord:
+    """The cycle's record: `phase`, `failure` (None unless failed), `reason`, when each phase
+    began (`phase_times`, s), planning wall time (`planning_s`), when the target was
+    recognised (`recognised_time`) and which (`target`: the object fetched now), the arm lift
+    (m) the robot watched from (`watch_lift`; the supervisor's, 0 for the ready posture), the
+    person's arm it hands to (`receiving`, "r" or "l", once the carry is planned) and, once
+    the person has asked for another object, the one first fetched (`first_target`) and when
+    the correction was seen (`corrected_time`)."""
+
+    phase: Phase = Phase.WATCH
+    failure: Failure | None = None
+    reason: str = ""
+    target: str | None = None
+    recognised_time: float = math.nan
+    phase_times: dict[str, float] = dataclasses.field(default_factory=dict)
+    planning_s: float = 0.0
+    watch_lift: float = 0.0
+    receiving: str = ""
+    first_target: str | None = None
+    corrected_time: float = math.nan
+
+    @property
+    def over(self) -> bool:
+        return self.phase in TERMINAL_PHASES

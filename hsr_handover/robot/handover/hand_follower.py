@@ -1,0 +1,82 @@
+"""Following the person's hand while presenting (paper 3.3: the robot brings the object to
+the receiver's hand). A hand held out beyond `follow_beyond`, or nearer but still for
+`nudge_s`, has the object brought `offer` in front of it; a hand that comes for the object
+while the robot moves toward it stops the arm where it is. Where the object is then held out,
+beside the hand if the forearm leaves no room in front of it, is the planner's
+(`planning.follow`)."""
+
+from __future__ import annotations
+
+import enum
+import math
+
+import numpy as np
+
+from hsr_handover.robot.handover.cycle_params import CycleParams
+from hsr_handover.robot.handover.cycle_types import Percepts
+
+
+class FollowStep(enum.Enum):
+    """What to do about the person's hand at one decision."""
+
+    STOP = "stop"  # the followed hand comes for the object: hold it where it is
+    STAY = "stay"  # reaching, waiting for less than `nudge_s`, or followed just now
+    FOLLOW = "follow"  # bring the object to the hand, if the arm is not moving
+
+
+class HandFollower:
+    """Decides when to bring the object to the person's hand, and where to aim it.
+
+    Its memory: where the hand came to rest and since when, when it last set off toward the
+    hand and where the hand was then."""
+
+    def __init__(self, params: CycleParams):
+        self._params = params
+        self._hand_rest: tuple[np.ndarray, float] | None = None  # (where, since when)
+        self._followed_at = -math.inf  # when it last tried to follow the hand
+        self._followed_hand: np.ndarray | None = None  # where the hand was, as it was followed
+
+    def step(self, p: Percepts, following: bool) -> FollowStep:
+        """This decision's step, with the hand and the palm seen in `p` (neither None);
+        `following`: whether the arm is now on its way to the hand."""
+        self._note_rest(p)
+        if self._coming(p, following):
+            return FollowStep.STOP
+        distance = float(np.linalg.norm(p.hand - p.palm))
+        if not (distance > self._params.follow_beyond or self._waiting_short(p)):
+            return FollowStep.STAY
+        if p.time - self._followed_at > self._params.follow_every_s:
+            return FollowStep.FOLLOW
+        return FollowStep.STAY
+
+    def aim(self, p: Percepts) -> np.ndarray:
+        """Where to hold the object out (m, world): `offer` in front of the hand toward the
+        palm. Noted as a try to follow the hand, as it is now."""
+        self._followed_at, self._followed_hand = p.time, p.hand
+        toward = (p.palm - p.hand) / float(np.linalg.norm(p.hand - p.palm))
+        return p.hand + self._params.offer * toward
+
+    def _note_rest(self, p: Percepts) -> None:
+        """Where the hand has rested, and since when: a hand first seen on its way out rests
+        only once it has stopped."""
+        rest = self._hand_rest
+        if rest is None or float(np.linalg.norm(p.hand - rest[0])) > self._params.hand_still:
+            self._hand_rest = (p.hand, p.time)
+
+    def _coming(self, p: Percepts, following: bool) -> bool:
+        """Whether the hand the robot is following has come over `coming` toward the palm: the
+        person reaches for the object, aimed where it was, and following on would bring the
+        fingers into the hand (a standing person's hand that waited 53 cm off reached as the
+        robot set off toward it, and met the fingers 22 cm on)."""
+        followed = self._followed_hand
+        if followed is None or not following:
+            return False
+        toward = (p.palm - followed) / float(np.linalg.norm(followed - p.palm))
+        return float((p.hand - followed) @ toward) > self._params.coming
+
+    def _waiting_short(self, p: Percepts) -> bool:
+        """Whether the hand has waited still for `nudge_s` without coming for an object held
+        farther than `offer` from it."""
+        waited = p.time - self._hand_rest[1] > self._params.nudge_s
+        held_off = self._params.offer + self._params.hand_still
+        return waited and float(np.linalg.norm(p.hand - p.palm)) > held_off

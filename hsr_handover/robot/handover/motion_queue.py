@@ -1,0 +1,83 @@
+"""The motions the handover cycle plays one after another: the one under way, those queued
+behind it, and where the robot stands once they end (or when told to stand still)."""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+from collections.abc import Iterable
+
+import numpy as np
+
+from hsr_handover.robot.handover.cycle_types import Motion
+
+
+@dataclasses.dataclass(frozen=True)
+class Running:
+    """The motion under way: its `name`, the `motion` and when it started (`start`, s)."""
+
+    name: str
+    motion: Motion
+    start: float
+
+
+class MotionQueue:
+    """Plays named motions in order. A copy shares the motions, which are never changed once
+    made, and copies the queue."""
+
+    def __init__(self):
+        self.running: Running | None = None
+        self._queue: list[tuple[str, Motion]] = []
+        self._hold: tuple[np.ndarray, np.ndarray] | None = None  # (q, 0) to stand still at
+
+    def __deepcopy__(self, memo: dict) -> MotionQueue:
+        clone = copy.copy(self)
+        clone._queue = list(self._queue)
+        return clone
+
+    @property
+    def running_name(self) -> str | None:
+        """The name of the motion under way, None when none is."""
+        return None if self.running is None else self.running.name
+
+    def play(self, motions: Iterable[tuple[str, Motion]]) -> None:
+        """Queue `motions` in place of those queued (the one under way plays on)."""
+        self._queue = list(motions)
+
+    def advance(self, time: float) -> str | None:
+        """At `time` (s): ends the motion under way if it is over (standing where it ended)
+        and starts the next queued one; the name of the one it started, None if none."""
+        running = self.running
+        if running is not None and time - running.start < running.motion.duration:
+            return None
+        if running is not None:
+            end = running.motion.state(running.motion.duration)[0]
+            self._hold, self.running = (end, np.zeros_like(end)), None
+        if not self._queue:
+            return None
+        name, motion = self._queue.pop(0)
+        self.running = Running(name, motion, time)
+        return name
+
+    def played_so_far(self, name: str, time: float, samples: int = 16) -> list[np.ndarray]:
+        """Configurations along the motion `name` under way, from its start to `time` (none
+        when no motion of that name is under way)."""
+        running = self.running
+        if running is None or running.name != name:
+            return []
+        elapsed = min(time - running.start, running.motion.duration)
+        return [running.motion.state(t)[0] for t in np.linspace(0.0, elapsed, samples)]
+
+    def stand_still(self, q: np.ndarray) -> None:
+        """Drop every motion and stand at `q`."""
+        self.running, self._queue = None, []
+        self._hold = (q, np.zeros_like(q))
+
+    def command(self, time: float) -> tuple[np.ndarray | None, np.ndarray | None]:
+        """(positions, velocities) at `time`: the motion under way, else where to stand; None
+        before there is either."""
+        if self.running is not None:
+            return self.running.motion.state(time - self.running.start)
+        if self._hold is not None:
+            return self._hold
+        return None, None
