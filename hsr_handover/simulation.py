@@ -96,17 +96,20 @@ def add_station_and_robot(
     builder.AddSystem(robot.diagram)
     connect_robot(builder, station.diagram, robot.diagram)
     if meshcat is not None and "gng_graph" in robot.perception_outputs:
-        add_graph_visualizer(builder, robot.diagram.GetOutputPort("gng_graph"), meshcat)
+        output = robot.diagram.GetOutputPort
+        watching = output("watching") if "watching" in robot.perception_outputs else None
+        add_graph_visualizer(builder, output("gng_graph"), meshcat, watching)
     if meshcat is not None and "plan_view" in robot.perception_outputs:
         _add_cycle_visualizer(builder, robot.diagram, meshcat)
     return station, robot
 
 
 def _add_cycle_visualizer(builder: DiagramBuilder, robot: Diagram, meshcat: Meshcat) -> None:
-    """What the robot thinks over the run (rays, target, plans, maps), in the replay."""
+    """What the robot thinks over the run (rays, target, plans, maps), in the replay: each of
+    the visualiser's inputs from the robot's output of its name."""
     visualizer = builder.AddNamedSystem("cycle_visualizer", CycleVisualizer(meshcat))
-    for name in ("intent", "intent_rays", "detections", "plan_view"):
-        builder.Connect(robot.GetOutputPort(name), visualizer.GetInputPort(name))
+    for port in map(visualizer.get_input_port, range(visualizer.num_input_ports())):
+        builder.Connect(robot.GetOutputPort(port.get_name()), port)
 
 
 def build_simulation(

@@ -63,6 +63,45 @@ class ReplayPage:
         command = {"type": "set_property", "path": path, "property": "visible", "value": visible}
         self.page.evaluate("command => viewer.handle_command(command)", command)
 
+    def click_checkbox(self, path: str) -> bool:
+        """Click the visibility checkbox of `path` in the viewer's controls, as a user does;
+        returns whether it is ticked afterwards."""
+        script = _walk(
+            "const box = last.vis_controller.domElement.querySelector('input');"
+            "box.click(); return box.checked;"
+        )
+        return bool(self.page.evaluate(script, path))
+
+    def ticked(self, path: str) -> bool:
+        """Whether the checkbox of `path` in the viewer's controls is ticked."""
+        script = _walk("return last.vis_controller.domElement.querySelector('input').checked;")
+        return bool(self.page.evaluate(script, path))
+
+    def play(self, seconds: float) -> None:
+        """Play the recording from where it is for `seconds` of wall time, then pause."""
+        self.page.evaluate("viewer.animator.play()")
+        self.page.wait_for_timeout(int(1000 * seconds))
+        self.page.evaluate("viewer.animator.pause()")
+
+    def shown(self, path: str) -> bool:
+        """Whether the object at `path` is drawn: it and every parent visible."""
+        return bool(self.page.evaluate(_walk("return nodes.every(n => n.object.visible);"), path))
+
+    def visible(self, path: str) -> bool:
+        """The `visible` property of the object at `path` alone."""
+        return bool(self.page.evaluate(_walk("return last.object.visible;"), path))
+
+    def world_position(self, path: str) -> np.ndarray:
+        """Where the object at `path` is in the world (m; Meshcat's world is Drake's, z up)."""
+        script = _walk(
+            "const p = last.object.getWorldPosition(new MeshCat.THREE.Vector3());"
+            "return [p.x, p.y, p.z];"
+        )
+        return np.array(self.page.evaluate(script, path))
+
+    def evaluate(self, script: str, argument=None):
+        return self.page.evaluate(script, argument)
+
     def duration(self) -> float:
         """The recording's length (s)."""
         return float(self.page.evaluate("viewer.animator.duration"))
@@ -70,6 +109,19 @@ class ReplayPage:
     def network_requests(self) -> list[str]:
         """Requests that would leave the machine (the page itself and its data: URLs do not)."""
         return [url for url in self.requests if not url.startswith(("file:", "data:"))]
+
+
+def _walk(body: str) -> str:
+    """A script of one argument, a Meshcat path, running `body` with `nodes`, the scene tree's
+    nodes from the root to that path (none created on the way), and `last`, the path's."""
+    return (
+        "path => { const nodes = [viewer.scene_tree];"
+        " for (const name of path.split('/').filter(part => part.length > 0)) {"
+        "  const next = nodes[nodes.length - 1].children[name];"
+        "  if (next === undefined) { throw new Error('no ' + name + ' in ' + path); }"
+        "  nodes.push(next); }"
+        f" const last = nodes[nodes.length - 1]; {body} }}"
+    )
 
 
 @contextlib.contextmanager

@@ -10,6 +10,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 from pydrake.geometry import Meshcat, MeshcatParams
 
+from hsr_handover.replay.legend import with_legend
+from hsr_handover.replay.overlays import drawn_overlays
+
 # Meshcat's perspective camera (three.js): 75 degrees vertical field of view.
 MESHCAT_FOV_Y = np.radians(75.0)
 # Frame for windows at least this wide for their height (4:3); wider windows show more margin.
@@ -122,10 +125,11 @@ def with_webgl_notice(html: str) -> str:
 
 
 def write_replay(meshcat: Meshcat, path: Path) -> Path:
-    """Stop recording and write the static HTML replay atomically: no partial file on failure."""
+    """Stop recording and write the static HTML replay atomically (no partial file on failure),
+    with the legend of the overlays drawn (`replay.legend`)."""
     meshcat.StopRecording()
     meshcat.PublishRecording()
-    html = with_webgl_notice(meshcat.StaticHtml())
+    html = with_legend(with_webgl_notice(meshcat.StaticHtml()), drawn_overlays(meshcat))
     path = Path(path)
     handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:

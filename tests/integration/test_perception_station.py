@@ -12,6 +12,7 @@ import pytest
 from pydrake.systems.analysis import Simulator
 
 from hsr_handover.interface.coco18 import COCO18_KEYPOINTS
+from hsr_handover.replay.overlays import SCENE_MAP
 from hsr_handover.robot.perception_wiring import PERCEPTION_OUTPUTS
 from hsr_handover.scenario import load_scenario, object_center
 from hsr_handover.simulation import build_simulation
@@ -110,7 +111,7 @@ def test_attention_experiment_meets_the_papers_figures(tmp_path):
     assert outputs["png"].stat().st_size > 20_000
     commands = meshcat_commands(outputs["html"].read_bytes())
     (animation,) = [c for c in commands if c.get("type") == "set_animation"]
-    assert any(e["path"].startswith("/perception/gng/") for e in animation["animations"])
+    assert any(e["path"].startswith(f"{SCENE_MAP.path}/") for e in animation["animations"])
 
 
 def test_the_table_is_fitted_to_the_point_clouds(watching_the_face):

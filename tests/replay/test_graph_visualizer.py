@@ -1,4 +1,5 @@
-"""GraphVisualizer: the GNG graph in Meshcat, live (newest snapshot only) and in the replay."""
+"""GraphVisualizer: the GNG graph in Meshcat, live (newest snapshot only) and in the replay,
+grey while the map rests."""
 
 from __future__ import annotations
 
@@ -13,10 +14,11 @@ from pydrake.systems.framework import Context, DiagramBuilder, LeafSystem
 
 from hsr_handover.replay.graph_visualizer import GraphVisualizer, add_graph_visualizer
 from hsr_handover.replay.meshcat_replay import make_local_meshcat, start_recording
+from hsr_handover.replay.overlays import RESTING_RGBA, SCENE_MAP
 from hsr_handover.robot.perception.cloud_map import GraphSnapshot
 from tests.meshcat_html import hidden_paths, meshcat_commands, replay_commands, visibility_keys
 
-PATH = "/perception/gng"
+PATH = SCENE_MAP.path
 FPS = 20.0
 
 
@@ -34,11 +36,17 @@ def meshcat() -> Meshcat:
 
 
 def publish(
-    visualizer: GraphVisualizer, context: Context, graph: GraphSnapshot, time: float
+    visualizer: GraphVisualizer,
+    context: Context,
+    graph: GraphSnapshot,
+    time: float,
+    watching: bool | None = None,
 ) -> None:
-    """Publish `graph` as if it arrived at `time`."""
+    """Publish `graph` as if it arrived at `time` (with the robot watching or not, if said)."""
     context.SetTime(time)
-    visualizer.get_input_port().FixValue(context, graph)
+    visualizer.GetInputPort("graph").FixValue(context, graph)
+    if watching is not None:
+        visualizer.GetInputPort("watching").FixValue(context, [float(watching)])
     visualizer.ForcedPublish(context)
 
 
@@ -187,3 +195,40 @@ def test_new_simulation_removes_the_previous_runs_graph(meshcat):
     Simulator(diagram).AdvanceTo(0.5)
     assert visualizer.snapshot_paths == [f"{PATH}/0002"]  # numbering goes on: paths stay unique
     assert not meshcat.HasPath(f"{PATH}/0000")
+
+
+def _material_and_colours(commands: list[dict], path: str) -> tuple[int, bool]:
+    """A drawn cloud's material colour (0xRRGGBB) and whether it has per-point colours."""
+    (nodes,) = [c for c in commands if c.get("path") == path and c["type"] == "set_object"]
+    attributes = nodes["object"]["geometries"][0]["data"]["attributes"]
+    return nodes["object"]["materials"][0]["color"], "color" in attributes
+
+
+def test_the_map_at_rest_is_drawn_grey_from_when_it_rests(meshcat, tmp_path: Path):
+    visualizer = GraphVisualizer(meshcat, PATH)
+    context = visualizer.CreateDefaultContext()
+    start_recording(meshcat, FPS)
+    graph = random_graph(0)
+    publish(visualizer, context, graph, 0.0, watching=True)
+    publish(visualizer, context, graph, 0.5, watching=False)
+    publish(visualizer, context, graph, 1.0, watching=False)  # still resting: nothing new
+    assert visualizer.snapshot_paths == [f"{PATH}/0000", f"{PATH}/0001"]
+    commands = replay_commands(meshcat, tmp_path)
+    keys = visibility_keys(commands)
+    assert keys[f"{PATH}/0000"] == [(0.0, True), (0.5, False)]
+    assert keys[f"{PATH}/0001"] == [(0.0, False), (0.5, True)]
+    grey = int(round(RESTING_RGBA.r() * 255)) * 0x010101
+    assert _material_and_colours(commands, f"{PATH}/0000/nodes") == (0xFFFFFF, True)
+    assert _material_and_colours(commands, f"{PATH}/0001/nodes") == (grey, False)
+
+
+def test_the_map_is_never_animated_on_its_overlay_path(meshcat, tmp_path: Path):
+    """The user's tick on the overlay's own path holds: only its snapshots are animated."""
+    visualizer = GraphVisualizer(meshcat, PATH)
+    context = visualizer.CreateDefaultContext()
+    start_recording(meshcat, FPS)
+    for k, watching in enumerate((True, True, False)):
+        publish(visualizer, context, random_graph(k), 0.25 * k, watching=watching)
+    commands = replay_commands(meshcat, tmp_path)
+    assert all(path.startswith(f"{PATH}/") for path in visibility_keys(commands))
+    assert PATH not in hidden_paths(commands)

@@ -94,6 +94,6 @@ def run_effectivity(
                                np.asarray(graph.nodes), person, handover, status,
                                time.perf_counter() - start)  # fmt: skip
     if watched.meshcat is not None:
-        draw_effectivity(watched.meshcat, result.person, result.handover)
+        draw_effectivity(watched.meshcat, result.person, result.handover, result.arm_edges)
         write_replay(watched.meshcat, replay)
     return result
