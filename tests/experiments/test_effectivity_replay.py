@@ -34,7 +34,9 @@ def person() -> PersonEffectivity:
 def _handover(q: np.ndarray | None = None) -> HandoverPose:
     nodes = np.array([[1.2, 0.2, 0.95], [1.3, 0.2, 0.95], [0.5, 0.0, 0.9]])
     mutual = np.array([True, True, False])
-    return HandoverPose(True, "ok", nodes[0], nodes[1], q, nodes, mutual)
+    return HandoverPose(
+        ok=True, reason="ok", ideal=nodes[0], point=nodes[1], q=q, robot_nodes=nodes, mutual=mutual
+    )
 
 
 def _planned_q() -> np.ndarray:
@@ -62,7 +64,7 @@ def test_each_layer_the_handover_point_and_the_planned_robot_is_its_own_overlay(
     assert paths == expected
     assert {o.path for o in drawn_overlays(meshcat)} == set(expected)  # in the legend
     assert meshcat.HasPath(f"{ARM_MAP.path}/edges")
-    failed = HandoverPose(False, "no mutual area", _handover().ideal)
+    failed = HandoverPose(ok=False, reason="no mutual area", ideal=_handover().ideal)
     assert draw_effectivity(make_local_meshcat(), person, failed) == [PERSON_RANGE.path]
 
 

@@ -12,6 +12,7 @@ from typing import Protocol
 import numpy as np
 
 from hsr_handover.robot.handover.plan_view import PlanView
+from hsr_handover.robot.planning.outcome import Outcome
 
 
 class Phase(enum.Enum):
@@ -79,14 +80,12 @@ class Percepts:
     correction: str | None = None
 
 
-@dataclasses.dataclass(frozen=True)
-class PlannedMotions:
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class PlannedMotions(Outcome):
     """A planner's answer: `ok` with the `motions` in order, or not with the `reason`; the
     wall `seconds` it took; a carry's `receiving` side ("r" or "l": the person's arm it
     hands to)."""
 
-    ok: bool
-    reason: str
     motions: tuple[tuple[str, Motion], ...] = ()
     seconds: float = 0.0
     held: object = None  # a grasp's: the object as the hand will hold it, for later plans

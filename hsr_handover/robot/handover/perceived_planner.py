@@ -111,11 +111,15 @@ class PerceivedPlanner:
         self, plan: Plan, started: float, person: PersonEffectivity | None = None
     ) -> PlannedMotions:
         if not plan.ok:
-            return PlannedMotions(False, plan.reason, seconds=time.perf_counter() - started)
+            return PlannedMotions(
+                ok=False, reason=plan.reason, seconds=time.perf_counter() - started
+            )
         motions = tuple((motion.name, TimedMotion(motion.timed)) for motion in plan.motions)
         seconds = time.perf_counter() - started  # the replay's view is not planning
         view = _view(plan, motions, self.palm, person)
-        return PlannedMotions(True, "ok", motions, seconds, plan.held, view)
+        return PlannedMotions(
+            ok=True, reason="ok", motions=motions, seconds=seconds, held=plan.held, view=view
+        )
 
     def grasp(self, label: str, q: np.ndarray) -> PlannedMotions:
         started = time.perf_counter()
@@ -127,7 +131,7 @@ class PerceivedPlanner:
         started = time.perf_counter()
         arms = self._percepts[1]
         if not arms:
-            return PlannedMotions(False, "no person perceived to hand over to")
+            return PlannedMotions(ok=False, reason="no person perceived to hand over to")
         reasons = []
         for arm in arms:
             person = PersonEffectivity(arm)
@@ -150,11 +154,13 @@ class PerceivedPlanner:
                         2 * q[scene.index(GRIPPER_JOINT)])  # fmt: skip
         found = plan_follow(scene, goal, q, v, held, self.limits)
         if found.motion is None:
-            return PlannedMotions(False, found.reason, seconds=time.perf_counter() - started)
+            return PlannedMotions(
+                ok=False, reason=found.reason, seconds=time.perf_counter() - started
+            )
         motions = (("follow", RetargetedMotion(found.motion)),)
         view = PlanView(palm_path((m for _, m in motions), self.palm))
         seconds = time.perf_counter() - started
-        return PlannedMotions(True, "ok", motions, seconds, view=view)
+        return PlannedMotions(ok=True, reason="ok", motions=motions, seconds=seconds, view=view)
 
     def put_back(
         self, q: np.ndarray, held: Held, lifted: np.ndarray, came: Sequence[np.ndarray] = ()

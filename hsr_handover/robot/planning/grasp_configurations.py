@@ -18,19 +18,18 @@ from hsr_handover.robot.effectivity.arm_map import ArmEffectivity
 from hsr_handover.robot.planning.base_placement import BasePlacement, place_base
 from hsr_handover.robot.planning.grasps import Grasp, grasp_candidates
 from hsr_handover.robot.planning.inverse_kinematics import PalmGoal, solve_palm_ik
+from hsr_handover.robot.planning.outcome import Outcome
 from hsr_handover.robot.planning.planning_scene import PlanningScene
 
 UNREACHABLE = "unreachable"
 
 
-@dataclasses.dataclass(frozen=True)
-class GraspConfigurations:
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class GraspConfigurations(Outcome):
     """`ok` with the `grasp`, `q_pregrasp`, `q_grasp` (open round the object) and `q_lifted`
     (closed on it, lifted) (plant positions), or not with the `reason`; `ik_solves` tried and
     their `seconds`."""
 
-    ok: bool
-    reason: str
     grasp: Grasp | None = None
     q_pregrasp: np.ndarray | None = None
     q_grasp: np.ndarray | None = None
@@ -47,7 +46,7 @@ def grasp_configurations(
     start = time.perf_counter()
     shape = scene.scene.object_named(label)
     if shape is None:
-        return GraspConfigurations(False, f"{UNREACHABLE}: {label!r} is not in the scene")
+        return GraspConfigurations(ok=False, reason=f"{UNREACHABLE}: {label!r} is not in the scene")
     robot_xy = q_now[[scene.index(BASE_JOINTS[0]), scene.index(BASE_JOINTS[1])]]
     solves = 0
     for grasp, placement in _placements(scene, arm_map, grasp_candidates(shape, robot_xy), q_now):
@@ -63,10 +62,12 @@ def grasp_configurations(
         solves += 2
         if at_pregrasp.ok and lifted.ok:
             seconds = time.perf_counter() - start
-            return GraspConfigurations(True, "ok", grasp, at_pregrasp.q, at_grasp.q,
-                                       lifted.q, solves, seconds)  # fmt: skip
+            return GraspConfigurations(
+                ok=True, reason="ok", grasp=grasp, q_pregrasp=at_pregrasp.q, q_grasp=at_grasp.q,
+                q_lifted=lifted.q, ik_solves=solves, seconds=seconds,
+            )  # fmt: skip
     reason = f"{UNREACHABLE}: no grasp of {label!r} passed inverse kinematics"
-    return GraspConfigurations(False, reason, ik_solves=solves,
+    return GraspConfigurations(ok=False, reason=reason, ik_solves=solves,
                                seconds=time.perf_counter() - start)  # fmt: skip
 
 

@@ -22,6 +22,7 @@ from hsr_handover.robot.effectivity.mutual_area import handover_aims, handover_p
 from hsr_handover.robot.effectivity.person_map import PersonEffectivity
 from hsr_handover.robot.planning.base_placement import place_base
 from hsr_handover.robot.planning.inverse_kinematics import PalmGoal, solve_palm_ik
+from hsr_handover.robot.planning.outcome import Outcome
 from hsr_handover.robot.planning.planning_scene import PlanningScene
 
 HANDOVER_TURNS_DEG = (0.0, 30.0, -30.0, 60.0, -60.0, 90.0, -90.0)
@@ -30,15 +31,13 @@ does not see what comes from behind; the chair is there)."""
 NO_MUTUAL_AREA = "no mutual area"
 
 
-@dataclasses.dataclass(frozen=True)
-class HandoverPose:
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class HandoverPose(Outcome):
     """`ok` with the configuration `q` handing over at `point` (world, m), or not with the
     `reason`. `robot_nodes` (n, 3, world) is the arm's map at the chosen base and `mutual` the
     mask of those the person reaches too; `ideal` is the rule's point aimed at (the first aim
     when none worked)."""
 
-    ok: bool
-    reason: str
     ideal: np.ndarray
     point: np.ndarray | None = None
     q: np.ndarray | None = None
@@ -69,9 +68,9 @@ def unseeded_handover_pose(
             goal = PalmGoal(aim, approach, closing, opening)
             result = solve_palm_ik(scene, goal, placement.q, ignore=ignore)
             if result.ok:
-                return HandoverPose(True, "ok", aim, aim, result.q)
+                return HandoverPose(ok=True, reason="ok", ideal=aim, point=aim, q=result.q)
             reason = f"unreachable: {result.reason} at the handover point"
-    return HandoverPose(False, reason, aims[0])
+    return HandoverPose(ok=False, reason=reason, ideal=aims[0])
 
 
 def _aims_and_approaches(aims: list[np.ndarray], person: PersonEffectivity):
@@ -117,9 +116,17 @@ def plan_handover_pose(
             goal = PalmGoal(point, approach, closing, opening)
             result = _ik_at_point(scene, arm_map, goal, placement.q, q_now, ignore)
             if result.ok:
-                return HandoverPose(True, "ok", aim, point, result.q, robot_nodes, mutual)
+                return HandoverPose(
+                    ok=True,
+                    reason="ok",
+                    ideal=aim,
+                    point=point,
+                    q=result.q,
+                    robot_nodes=robot_nodes,
+                    mutual=mutual,
+                )
             reason = f"unreachable: {result.reason} at the handover point"
-    return HandoverPose(False, reason, aims[0])
+    return HandoverPose(ok=False, reason=reason, ideal=aims[0])
 
 
 def _ik_at_point(scene, arm_map, goal: PalmGoal, seed: np.ndarray, q_now: np.ndarray, ignore):

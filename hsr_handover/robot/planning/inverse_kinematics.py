@@ -16,6 +16,7 @@ from pydrake.multibody.inverse_kinematics import InverseKinematics
 
 from hsr_handover.hsr import BASE_JOINTS, GRIPPER_JOINT, HEAD_JOINTS, PALM_FRAME
 from hsr_handover.robot.planning.grasps import PAD_OFFSET
+from hsr_handover.robot.planning.outcome import Outcome
 from hsr_handover.robot.planning.planning_scene import PlanningScene
 from hsr_handover.robot.planning.solving import solve, solved
 
@@ -37,13 +38,11 @@ class PalmGoal:
     opening: float
 
 
-@dataclasses.dataclass(frozen=True)
-class IkResult:
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class IkResult(Outcome):
     """`ok` with the plant's positions `q`, or not with the `reason`; `seconds` spent."""
 
-    ok: bool
     q: np.ndarray
-    reason: str
     seconds: float
 
 
@@ -61,7 +60,9 @@ def solve_palm_ik(
     start = time.perf_counter()
     seed = np.asarray(seed, dtype=float)
     if not (np.all(np.isfinite(seed)) and np.all(np.isfinite(goal.point))):
-        return IkResult(False, seed, "non-finite seed or goal", time.perf_counter() - start)
+        return IkResult(
+            ok=False, q=seed, reason="non-finite seed or goal", seconds=time.perf_counter() - start
+        )
     plant = scene.plant
     seed = np.clip(seed, plant.GetPositionLowerLimits(), plant.GetPositionUpperLimits())
     with scene.ignoring(ignore):
@@ -71,9 +72,9 @@ def solve_palm_ik(
     q = result.GetSolution(ik.q())
     seconds = time.perf_counter() - start
     if not usable:
-        return IkResult(False, q, f"no IK solution ({result.get_solver_id().name()} "
-                                  f"{result.get_solution_result().name})", seconds)  # fmt: skip
-    return IkResult(True, q, "ok", seconds)
+        solver = f"{result.get_solver_id().name()} {result.get_solution_result().name}"
+        return IkResult(ok=False, q=q, reason=f"no IK solution ({solver})", seconds=seconds)
+    return IkResult(ok=True, q=q, reason="ok", seconds=seconds)
 
 
 def _build(scene, goal: PalmGoal, seed, base_fixed: bool, min_distance: float):

@@ -32,6 +32,7 @@ from hsr_handover.robot.planning.handover_pose import (
     unseeded_handover_pose,
 )
 from hsr_handover.robot.planning.inverse_kinematics import PalmGoal, solve_palm_ik
+from hsr_handover.robot.planning.outcome import Outcome
 from hsr_handover.robot.planning.planning_scene import PERSON, PlanningScene
 from hsr_handover.robot.planning.timing import JointLimits, TimedPath, time_path
 from hsr_handover.robot.planning.trajectory import (
@@ -123,15 +124,13 @@ def holding(scene: PlanningScene, held: Held | None, q_now: np.ndarray):
     return scene.holding(held.label, held.q_grasp, held.shape, q_now)
 
 
-@dataclasses.dataclass(frozen=True)
-class Plan:
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class Plan(Outcome):
     """`ok` with the `motions` ending at the configuration `goal`, or not with the `reason`;
     the wall `seconds` of each of STAGES and the IK solves tried; for a grasp, the object as
     it will be `held`; for a handover, the `pose` chosen (the maps and the point, for the
     replay)."""
 
-    ok: bool
-    reason: str
     target: str
     motions: tuple[Motion, ...] = ()
     seconds: dict[str, float] = dataclasses.field(default_factory=dict)
@@ -164,7 +163,9 @@ def plan_grasp(
     found = grasp_configurations(scene, arm_map, label, q_now)
     seconds = dict.fromkeys(STAGES, 0.0) | {"ik": found.seconds}
     if not found.ok:
-        return Plan(False, found.reason, label, seconds=seconds, ik_solves=found.ik_solves)
+        return Plan(
+            ok=False, reason=found.reason, target=label, seconds=seconds, ik_solves=found.ik_solves
+        )
     closed = _fingers_as(scene, found.q_grasp, found.q_lifted)  # it closes between the legs
     # The robot opens the gripper at once as it sets off (to 10 cm, within 1 cm of the
     # pre-grasp's width and GRIP_CLEARANCE), so the move is planned open from its start: a move
@@ -283,7 +284,15 @@ def _way_back(scene, q_now, q_to, came, ignore, limits, seconds) -> Plan:
             seconds["timing"] += time.perf_counter() - started
             if timed.ok:
                 motion = Motion(PUT_BACK, ignore, timed)
-                return Plan(True, "ok", PUT_BACK, (motion,), seconds, 0, q_to)
+                return Plan(
+                    ok=True,
+                    reason="ok",
+                    target=PUT_BACK,
+                    motions=(motion,),
+                    seconds=seconds,
+                    ik_solves=0,
+                    goal=q_to,
+                )
     leg = Leg(PUT_BACK, ignore, q_now, q_to)
     return _plan_legs(scene, PUT_BACK, (leg,), limits, seconds, 0)
 
@@ -298,10 +307,23 @@ def plan_back_off(
     seconds = dict.fromkeys(STAGES, 0.0)
     distance = scene.clearances_at(q_now).get(released, math.inf)
     if distance >= COLLISION_BOUND:
-        return Plan(True, "ok", BACK_OFF, (), seconds, 0, q_now)
+        return Plan(
+            ok=True,
+            reason="ok",
+            target=BACK_OFF,
+            motions=(),
+            seconds=seconds,
+            ik_solves=0,
+            goal=q_now,
+        )
     q_back = _backed_off(scene, q_now, (released,))
     if q_back is None:
-        return Plan(False, "no way back from the object let go of", BACK_OFF, seconds=seconds)
+        return Plan(
+            ok=False,
+            reason="no way back from the object let go of",
+            target=BACK_OFF,
+            seconds=seconds,
+        )
     return _plan_legs(scene, BACK_OFF, (Leg(BACK_OFF, (released,), q_now, q_back),), limits,
                       seconds, 0)  # fmt: skip
 
@@ -359,7 +381,7 @@ def _plan_handover(scene, arm_map, person, q_now, limits, ignore: tuple[str, ...
         pose = plan_handover_pose(scene, arm_map, person, q_now, ignore)
     seconds = dict.fromkeys(STAGES, 0.0) | {"ik": time.perf_counter() - start}
     if not pose.ok:
-        return Plan(False, pose.reason, HANDOVER, seconds=seconds)
+        return Plan(ok=False, reason=pose.reason, target=HANDOVER, seconds=seconds)
     leg = Leg("carry", ignore, q_now, pose.q)
     plan = _plan_legs(scene, HANDOVER, (leg,), limits, seconds, 1)
     return dataclasses.replace(plan, pose=pose) if plan.ok else plan
@@ -374,15 +396,29 @@ def _plan_legs(scene, target, legs: tuple[Leg, ...], limits, seconds, ik_solves)
         path, reason = _path(scene, q_from, q_to, ignore, name in STRAIGHT_LEGS, approached)
         seconds["optimisation"] += time.perf_counter() - start
         if path is None:
-            return Plan(False, f"{name}: {reason}", target, seconds=seconds, ik_solves=ik_solves)
+            return Plan(
+                ok=False,
+                reason=f"{name}: {reason}",
+                target=target,
+                seconds=seconds,
+                ik_solves=ik_solves,
+            )
         start = time.perf_counter()
         timed = time_path(path, limits)
         seconds["timing"] += time.perf_counter() - start
         if not timed.ok:
-            return Plan(False, f"{name}: {timed.reason}", target, seconds=seconds,
+            return Plan(ok=False, reason=f"{name}: {timed.reason}", target=target, seconds=seconds,
                         ik_solves=ik_solves)  # fmt: skip
         motions.append(Motion(name, ignore, timed))
-    return Plan(True, "ok", target, tuple(motions), seconds, ik_solves, legs[-1].q_to)
+    return Plan(
+        ok=True,
+        reason="ok",
+        target=target,
+        motions=tuple(motions),
+        seconds=seconds,
+        ik_solves=ik_solves,
+        goal=legs[-1].q_to,
+    )
 
 
 def _path(scene, q_from, q_to, ignore, straight: bool, target: Target | None = None):

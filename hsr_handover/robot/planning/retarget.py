@@ -16,18 +16,17 @@ import dataclasses
 import numpy as np
 from ruckig import InputParameter, Result, Ruckig, RuckigError, Trajectory
 
+from hsr_handover.robot.planning.outcome import Outcome
 from hsr_handover.robot.planning.timing import STILL, JointLimits, sample_times
 
 JERK_PER_ACCELERATION = 5.0  # 1/s: jerk limit = 5 x acceleration limit, full from rest in 0.2 s
 POSITION_TOLERANCE = 1e-9  # m or rad beyond a position limit still taken as within (rounding)
 
 
-@dataclasses.dataclass(frozen=True)
-class Retargeting:
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class Retargeting(Outcome):
     """`ok` with a motion of `duration` s, or not with the `reason`."""
 
-    ok: bool
-    reason: str
     duration: float = 0.0
     trajectory: Trajectory | None = None
 
@@ -72,22 +71,26 @@ def retarget(
     goal_velocity = np.zeros_like(target_position) if target_velocity is None else target_velocity
     state, reason = _state(position, velocity, acceleration, target_position, goal_velocity)
     if state is None:
-        return Retargeting(False, reason)
+        return Retargeting(ok=False, reason=reason)
     moving = _moving(state)
     reason = _limits_problem(state, limits, moving)
     if reason:
-        return Retargeting(False, reason)
+        return Retargeting(ok=False, reason=reason)
     trajectory = Trajectory(len(moving))
     try:
         result = Ruckig(len(moving)).calculate(_input(state, limits, moving), trajectory)
     except RuckigError as error:  # ruckig's validation of the input
-        return Retargeting(False, f"ruckig refused the input ({str(error).strip()[:160]})")
+        return Retargeting(
+            ok=False, reason=f"ruckig refused the input ({str(error).strip()[:160]})"
+        )
     if result not in (Result.Working, Result.Finished):
-        return Retargeting(False, f"ruckig found no motion ({result.name})")
+        return Retargeting(ok=False, reason=f"ruckig found no motion ({result.name})")
     reason = _overshoot(trajectory, state, limits, moving)
     if reason:
-        return Retargeting(False, reason)
-    return Retargeting(True, "ok", float(trajectory.duration), trajectory)
+        return Retargeting(ok=False, reason=reason)
+    return Retargeting(
+        ok=True, reason="ok", duration=float(trajectory.duration), trajectory=trajectory
+    )
 
 
 def _state(*vectors) -> tuple[_State | None, str]:

@@ -24,6 +24,8 @@ from pydrake.trajectories import BsplineTrajectory
 from toppra.exceptions import ToppraError
 from toppra.interpolator import AbstractGeometricPath
 
+from hsr_handover.robot.planning.outcome import Outcome
+
 GRID_POINTS = 100  # toppra's discretisation of the path: its limits hold at these points
 CHECKS_PER_INTERVAL = 4  # more points per grid interval where the limits are made to hold
 SOLVER = "seidel"  # toppra's own LP solver for 2 variables: fast, and needs no other package
@@ -192,12 +194,10 @@ def sample_times(duration: float, step: float) -> np.ndarray:
     return np.append(np.arange(0.0, duration, step), duration)
 
 
-@dataclasses.dataclass(frozen=True)
-class TimedPath:
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class TimedPath(Outcome):
     """`ok` with a `trajectory` of `duration` s, or not with the `reason`."""
 
-    ok: bool
-    reason: str
     duration: float = 0.0
     trajectory: TimedTrajectory | None = None
 
@@ -225,17 +225,17 @@ def time_path(
     False and `reason` says why."""
     moving, reason = _moving_rows(path, limits)
     if reason:
-        return TimedPath(False, reason)
+        return TimedPath(ok=False, reason=reason)
     if len(moving) == 0:
-        return TimedPath(True, "ok", 0.0, TimedTrajectory(path))
+        return TimedPath(ok=True, reason="ok", duration=0.0, trajectory=TimedTrajectory(path))
     # Only the moving joints constrain the timing: a held joint may have no usable limit.
     geometric = _DrakePath(path, moving)
     data, reason = _parameterize(geometric, limits, moving, grid_points)
     if data is None:
-        return TimedPath(False, f"timing failed ({reason})")
+        return TimedPath(ok=False, reason=f"timing failed ({reason})")
     stretch = _stretch(geometric, data.gridpoints, data.sd_vec, limits, moving)
     trajectory = TimedTrajectory(path, data.gridpoints, data.sd_vec, stretch)
-    return TimedPath(True, "ok", trajectory.duration, trajectory)
+    return TimedPath(ok=True, reason="ok", duration=trajectory.duration, trajectory=trajectory)
 
 
 def _parameterize(geometric: _DrakePath, limits: JointLimits, rows: np.ndarray, points: int):

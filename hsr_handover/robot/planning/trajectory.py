@@ -33,6 +33,7 @@ from pydrake.planning import KinematicTrajectoryOptimization
 from pydrake.trajectories import BsplineTrajectory
 
 from hsr_handover.hsr import BASE_JOINTS, GRIPPER_JOINT, GRIPPER_MIMIC_JOINT, HEAD_JOINTS
+from hsr_handover.robot.planning.outcome import Outcome
 from hsr_handover.robot.planning.planning_scene import HELD, PlanningScene
 from hsr_handover.robot.planning.solving import solve, solved
 
@@ -50,13 +51,11 @@ MAX_DURATION = 30.0  # s of the path's nominal time (toppra retimes it)
 FREE_POSITION = 20.0  # m: stands in for the base's unbounded x and y
 
 
-@dataclasses.dataclass(frozen=True)
-class PathResult:
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class PathResult(Outcome):
     """`ok` with the `path` (a B-spline over plant positions, on its own time scale), or not
     with the `reason`; `seconds` spent."""
 
-    ok: bool
-    reason: str
     path: BsplineTrajectory | None
     seconds: float
 
@@ -176,8 +175,10 @@ def optimize_path(
     seconds = time.perf_counter() - start
     if not usable:
         reason = f"no path ({result.get_solver_id().name()} {result.get_solution_result().name})"
-        return PathResult(False, reason, None, seconds)
-    return PathResult(True, "ok", trajopt.ReconstructTrajectory(result), seconds)
+        return PathResult(ok=False, reason=reason, path=None, seconds=seconds)
+    return PathResult(
+        ok=True, reason="ok", path=trajopt.ReconstructTrajectory(result), seconds=seconds
+    )
 
 
 def _build(

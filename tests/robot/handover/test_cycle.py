@@ -48,33 +48,45 @@ class Planner:
     def grasp(self, label, q):
         self.asked.append(("grasp", label))
         if not self.grasp_ok or len(self.asked) <= self.grasp_failures:
-            return PlannedMotions(False, "unreachable: no base pose reaches it", seconds=0.2)
+            return PlannedMotions(
+                ok=False, reason="unreachable: no base pose reaches it", seconds=0.2
+            )
         motions = (("move", Line(q, q + 1)), ("approach", Line(q + 1, q + 2)),
                    ("lift", Line(q + 2, q + 3)))  # fmt: skip
-        return PlannedMotions(True, "ok", motions, 0.3, held="the grasp")
+        return PlannedMotions(ok=True, reason="ok", motions=motions, seconds=0.3, held="the grasp")
 
     def carry(self, q, held):
         self.asked.append(("carry", held))
-        return PlannedMotions(True, "ok", (("carry", Line(q, q + 1, 2.0)),), 0.5)
+        return PlannedMotions(
+            ok=True, reason="ok", motions=(("carry", Line(q, q + 1, 2.0)),), seconds=0.5
+        )
 
     def follow(self, q, v, hand, held):
         self.asked.append(("follow", tuple(hand)))
-        return PlannedMotions(True, "ok", (("follow", Line(q, q + 0.5, 0.5)),), 0.01)
+        return PlannedMotions(
+            ok=True, reason="ok", motions=(("follow", Line(q, q + 0.5, 0.5)),), seconds=0.01
+        )
 
     def retreat(self, q, held, let_go=None):
         self.asked.append(("retreat", held, let_go))
-        return PlannedMotions(True, "ok", (("retreat", Line(q, np.zeros_like(q))),), 0.1)
+        return PlannedMotions(
+            ok=True, reason="ok", motions=(("retreat", Line(q, np.zeros_like(q))),), seconds=0.1
+        )
 
     def back_off(self, q, let_go):
         self.asked.append(("back off", let_go))
         if not self.back_off_ok:
-            return PlannedMotions(False, "no way back from the object let go of", seconds=0.05)
-        return PlannedMotions(True, "ok", (("back off", Line(q, q - 0.5, 0.5)),), 0.05)
+            return PlannedMotions(
+                ok=False, reason="no way back from the object let go of", seconds=0.05
+            )
+        return PlannedMotions(
+            ok=True, reason="ok", motions=(("back off", Line(q, q - 0.5, 0.5)),), seconds=0.05
+        )
 
     def put_back(self, q, held, lifted, came):
         self.asked.append(("put back", held, tuple(lifted), len(came)))
         motions = (("put back", Line(q, lifted)), ("lower", Line(lifted, lifted - 1)))
-        return PlannedMotions(True, "ok", motions, 0.2)
+        return PlannedMotions(ok=True, reason="ok", motions=motions, seconds=0.2)
 
 
 class World:

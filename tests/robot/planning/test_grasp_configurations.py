@@ -237,7 +237,12 @@ def test_an_ik_failing_from_the_aims_placement_is_tried_from_the_points_own(
         seeds.append(np.array(seed))
         goals.append(goal)
         if len(seeds) == 1:
-            return IkResult(False, np.array(seed), "no IK solution (SNOPT kIterationLimit)", 0.0)
+            return IkResult(
+                ok=False,
+                q=np.array(seed),
+                reason="no IK solution (SNOPT kIterationLimit)",
+                seconds=0.0,
+            )
         return real(scene, goal, seed, ignore=ignore)
 
     monkeypatch.setattr(handover_pose, "solve_palm_ik", first_runs_out)
