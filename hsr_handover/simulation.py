@@ -36,6 +36,7 @@ from hsr_handover.replay.meshcat_replay import (
 from hsr_handover.robot.builder import Robot, build_robot
 from hsr_handover.robot.handover.cycle_types import CycleRecord
 from hsr_handover.robot.intent import IntentState
+from hsr_handover.robot.systems.watching import WATCHING
 from hsr_handover.scenario import Scenario
 from hsr_handover.systems.port_types import check_abstract_connections
 from hsr_handover.world.station import Station, build_station, check_initial_clearance
@@ -97,7 +98,7 @@ def add_station_and_robot(
     connect_robot(builder, station.diagram, robot.diagram)
     if meshcat is not None and "gng_graph" in robot.perception_outputs:
         output = robot.diagram.GetOutputPort
-        watching = output("watching") if "watching" in robot.perception_outputs else None
+        watching = output(WATCHING) if WATCHING in robot.perception_outputs else None
         add_graph_visualizer(builder, output("gng_graph"), meshcat, watching)
     if meshcat is not None and "plan_view" in robot.perception_outputs:
         _add_cycle_visualizer(builder, robot.diagram, meshcat)

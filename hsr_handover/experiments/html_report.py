@@ -16,7 +16,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import NamedTuple
 
-from hsr_handover.experiments.reporting import wilson_interval
+from hsr_handover.experiments.reporting import format_cell, wilson_interval
 
 PAGE = "index.html"
 
@@ -130,16 +130,17 @@ def _rates_table(rates: Sequence[RateRow]) -> str:
 
 
 def _replay_links(rows: Sequence[dict], replays: Path | None, page_dir: Path) -> dict[int, str]:
-    """Trial index -> the replay's path relative to the page, for the replays that exist."""
+    """Trial index -> the replay's path relative to the page, for the replays that exist (the
+    folder read once: `trial_007_<outcome>.html`, `experiment.replay_name`)."""
     if replays is None:
         return {}
-    links = {}
-    for row in rows:
-        index = int(row["index"])
-        found = sorted(Path(replays).glob(f"trial_{index:03d}_*.html"))
-        if found:
-            links[index] = os.path.relpath(found[0], page_dir)
-    return links
+    written = {}
+    for path in sorted(Path(replays).glob("trial_*_*.html")):
+        index = path.name.split("_")[1]
+        if index.isdigit():
+            written.setdefault(int(index), path)
+    wanted = {int(row["index"]) for row in rows}
+    return {i: os.path.relpath(path, page_dir) for i, path in written.items() if i in wanted}
 
 
 def _trials_table(rows: Sequence[dict], columns: Sequence[str], links: dict[int, str]) -> str:
@@ -161,7 +162,7 @@ def _cell(value) -> str:
     if isinstance(value, bool):
         return f"<td data-sort='{int(value)}'>{'yes' if value else 'no'}</td>"
     if isinstance(value, float):
-        shown = "" if value != value else f"{value:.4g}"
+        shown = "" if value != value else format_cell(value)
         return f"<td data-sort='{shown}'>{shown}</td>"
     if isinstance(value, int):
         return f"<td>{value}</td>"

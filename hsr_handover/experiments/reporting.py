@@ -44,10 +44,12 @@ def write_rows(rows: list[dict], columns: Sequence[str], path: Path) -> None:
         writer = csv.DictWriter(stream, columns, extrasaction="ignore")
         writer.writeheader()
         for row in rows:
-            writer.writerow({key: _cell(row.get(key, "")) for key in columns})
+            writer.writerow({key: format_cell(row.get(key, "")) for key in columns})
 
 
-def _cell(value: Any) -> Any:
+def format_cell(value: Any) -> Any:
+    """A per-trial value as the CSV and the report page show it: floats to four significant
+    digits, the rest as it is."""
     return f"{value:.4g}" if isinstance(value, float) else value
 
 
