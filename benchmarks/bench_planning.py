@@ -33,9 +33,11 @@ from hsr_handover.experiments.true_clearance import TrueClearance
 from hsr_handover.experiments.watch import WATCH_S, watch
 from hsr_handover.robot.effectivity.arm_map import load_or_build
 from hsr_handover.robot.effectivity.person_map import PersonEffectivity
-from hsr_handover.robot.planning.planner import CHECK_STEP, Plan, plan_grasp, plan_handover
+from hsr_handover.robot.planning.plan import Plan
+from hsr_handover.robot.planning.planner import plan_grasp, plan_handover
 from hsr_handover.robot.planning.planning_scene import PlanningScene
 from hsr_handover.robot.planning.timing import joint_limits
+from hsr_handover.robot.planning.verification import CHECK_STEP
 from hsr_handover.scenario import load_scenario
 
 ROOT = Path(__file__).resolve().parents[1] / "scenarios"
@@ -166,7 +168,7 @@ def _true_clearance(plan: Plan, truth: TrueClearance, by_color: dict) -> tuple:
     best, nearest = math.inf, ""
     for motion in plan.motions:
         ignore = tuple(by_color.get(label, label) for label in motion.ignore)
-        _, positions = motion.timed.sample(CHECK_STEP)
+        _, positions = motion.sample(CHECK_STEP)
         for q in positions:
             distance, name = truth(q, ignore)
             if distance < best:

@@ -18,9 +18,10 @@ UNIT_TESTS = [
     "tests/robot/perception/test_body_check.py", "tests/robot/perception/test_chest_plane.py",
     "tests/robot/perception/test_cross_check.py", "tests/robot/perception/test_facing.py",
     "tests/robot/perception/test_keypoint_filter.py", "tests/robot/perception/test_torso_depth.py",
-    "tests/robot/handover/test_cycle.py", "tests/robot/handover/test_plan_view.py",
+    "tests/robot/handover/test_cycle.py", "tests/robot/planning/test_plan_view.py",
     "tests/robot/handover/test_take.py", "tests/robot/handover/test_hand_follower.py",
-    "tests/robot/handover/test_put_back.py",
+    "tests/robot/handover/test_put_back.py", "tests/robot/handover/test_correction_watch.py",
+    "tests/robot/handover/test_person_points.py", "tests/robot/planning/test_plan.py",
     "tests/world/person/test_human.py", "tests/world/sensors/test_detector_model.py",
     "tests/interface/test_openpose_formats.py", "tests/interface/test_person_tracking.py",
 ]  # fmt: skip

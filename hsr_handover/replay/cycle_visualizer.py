@@ -36,10 +36,10 @@ from hsr_handover.replay.overlays import (
     draw_points,
 )
 from hsr_handover.robot.handover.cycle_types import CycleRecord, Phase
-from hsr_handover.robot.handover.plan_view import PlanView
 from hsr_handover.robot.intent import IntentState
 from hsr_handover.robot.perception.object_detection import DetectionResult
 from hsr_handover.robot.planning.grasps import PAD_OFFSET
+from hsr_handover.robot.planning.plan_view import PlanView
 from hsr_handover.robot.systems.watching import declare_watching_input, is_watching
 
 RAY_LENGTH = 1.2  # m drawn of each ray from its origin
@@ -137,7 +137,7 @@ class CycleVisualizer(LeafSystem):
         seen now, else (still on the table) where `last` placed."""
         if phase in IN_HAND and self._command.HasValue(context):
             return pads_in_world(self._command.Eval(context))
-        seen = _seen(self._detections.Eval(context), label)
+        seen = self._detections.Eval(context).seen(label)
         return last if seen is None and phase in ON_THE_TABLE else seen
 
     def _draw_plan(self, view: PlanView, time: float) -> None:
@@ -191,14 +191,6 @@ def pads_in_world(command: np.ndarray) -> np.ndarray:
     pads = position + rotation @ np.array([0.0, 0.0, PAD_OFFSET])
     c, s = np.cos(yaw), np.sin(yaw)
     return np.array([x + c * pads[0] - s * pads[1], y + s * pads[0] + c * pads[1], pads[2]])
-
-
-def _seen(detections: DetectionResult, label: str) -> np.ndarray | None:
-    """The centre of `label`'s detection (m, world), None when it is not seen with depth."""
-    for detection in detections.detections:
-        if detection.label == label and np.all(np.isfinite(detection.center)):
-            return np.asarray(detection.center, dtype=float)
-    return None
 
 
 def _same_point(a: np.ndarray | None, b: np.ndarray | None) -> bool:

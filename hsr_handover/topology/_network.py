@@ -131,6 +131,18 @@ class GrowingNetwork:
         """Age a_ij of each edge in ``edges`` (eqs. 14-15)."""
         return np.empty(0, np.int64) if self.dim is None else self._state.edge_list()[1]
 
+    @property
+    def adjacency(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Each node's edges as the learning kernels keep them, copies: `neighbours` (n_nodes,
+        width) and the `ages` of those edges, the first `degree[i]` of row i in use; every edge
+        is listed at both its ends with the same age. The width grows with the highest
+        degree."""
+        if self.dim is None:
+            empty = np.empty((0, 0), np.int64)
+            return empty, np.empty(0, np.int64), empty
+        n, state = self.n_nodes, self._state
+        return state.neighbours[:n].copy(), state.degree[:n].copy(), state.ages[:n].copy()
+
     def nearest(
         self, points: np.ndarray, return_distance: bool = False
     ) -> np.ndarray | tuple[np.ndarray, np.ndarray]:

@@ -28,11 +28,11 @@ from hsr_handover.replay.overlays import (
     TARGET,
 )
 from hsr_handover.robot.handover.cycle_types import CycleRecord, Phase
-from hsr_handover.robot.handover.plan_view import PlanView
 from hsr_handover.robot.intent import IntentState
 from hsr_handover.robot.intent.rays import Ray
 from hsr_handover.robot.perception.object_detection import Detection, DetectionResult
 from hsr_handover.robot.planning.grasps import PAD_OFFSET
+from hsr_handover.robot.planning.plan_view import PlanView
 from tests.meshcat_html import animation_keys, meshcat_commands, replay_commands, visibility_keys
 
 FPS = 20.0

@@ -75,16 +75,16 @@ def test_insertion_splits_the_edge_of_largest_errors():
 
 def check_invariants(gas: GrowingNeuralGas) -> None:
     edges, ages = gas.edges, gas.edge_ages
-    state = gas._state
+    neighbours, degree, mirrored_ages = gas.adjacency
     n = gas.n_nodes
     assert 2 <= n <= gas.max_nodes
     assert np.all(edges[:, 0] < edges[:, 1])  # no self-loops; i < j listing
     assert len({tuple(e) for e in edges.tolist()}) == len(edges)  # no duplicates
     for i in range(n):  # symmetric: each list entry is mirrored with the same age
-        for k in range(state.degree[i]):
-            j = state.neighbours[i, k]
-            back = list(state.neighbours[j, : state.degree[j]]).index(i)
-            assert state.ages[j, back] == state.ages[i, k]
+        for k in range(degree[i]):
+            j = neighbours[i, k]
+            back = list(neighbours[j, : degree[j]]).index(i)
+            assert mirrored_ages[j, back] == mirrored_ages[i, k]
     assert set(np.unique(edges)) == set(range(n))  # no isolated node
     assert np.all(gas.errors >= 0)
     assert np.all((ages >= 0) & (ages <= gas.a_max))
@@ -118,7 +118,7 @@ def test_high_degree_lists_grow():
     rng = np.random.default_rng(3)
     gas = GrowingNeuralGas(max_nodes=200, lam=5, a_max=10**6, random_state=0)
     gas.fit(rng.normal(size=(20000, 12)))  # high dimension: many edges per node
-    assert gas._state.neighbours.shape[1] > 16
+    assert gas.adjacency[0].shape[1] > 16
     check_invariants(gas)
 
 

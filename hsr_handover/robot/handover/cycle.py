@@ -27,16 +27,15 @@ from hsr_handover.robot.handover.cycle_types import (
     CyclePlanner,
     CycleRecord,
     Failure,
-    Motion,
     Percepts,
     Phase,
-    PlannedMotions,
 )
 from hsr_handover.robot.handover.hand_follower import FollowStep, HandFollower
 from hsr_handover.robot.handover.motion_queue import MotionQueue
-from hsr_handover.robot.handover.plan_view import PlanView
 from hsr_handover.robot.handover.put_back import PutBack, PutBackStep
 from hsr_handover.robot.handover.take import Emptied, TakeDetector
+from hsr_handover.robot.planning.plan import Motion, Plan
+from hsr_handover.robot.planning.plan_view import PlanView
 
 
 @dataclasses.dataclass
@@ -48,7 +47,7 @@ class _Fetch:
     for it before planning its grasp unseen (`seek_until`, s)."""
 
     held: object = None
-    lift: tuple[str, Motion] | None = None
+    lift: Motion | None = None
     width: float = math.inf
     start: np.ndarray | None = None
     turned: float | None = None
@@ -58,15 +57,17 @@ class _Fetch:
 class HandoverCycle:
     """Steps the cycle on percepts; `command(time)` gives what the robot should do then.
 
-    A copy (Drake copies a system's state with each context) shares the planner, the params
-    and the motions, which are never changed once made, and copies the rest."""
+    It asks `planner` for its motions: whoever steps it may give it a planner for newer
+    percepts before each step. A copy (Drake copies a system's state with each context) shares
+    the planner, the params and the motions, which are never changed once made, and copies the
+    rest."""
 
     def __init__(
         self,
         planner: CyclePlanner,
         params: CycleParams = CycleParams(),  # noqa: B008 (frozen)
     ):
-        self._planner = planner
+        self.planner = planner
         self._params = params
         self.record = CycleRecord()
         self.view = PlanView()  # what the plans so far show in the replay
@@ -165,7 +166,7 @@ class HandoverCycle:
             fetch.seek_until = seek_until if fetch.seek_until is None else fetch.seek_until
             if p.time < fetch.seek_until:
                 return
-        planned = self._plan(self._planner.grasp(self.record.target, p.q), p)
+        planned = self._plan(self.planner.grasp(self.record.target, p.q), p)
         if planned is None:
             return
         *reach, lift = planned.motions
@@ -204,7 +205,7 @@ class HandoverCycle:
             return
         if p.time - self._fetch.turned < self._params.look_s or p.time < self._retry_at:
             return
-        planned = self._plan(self._planner.carry(p.q, self._fetch.held), p, holding=True)
+        planned = self._plan(self.planner.carry(p.q, self._fetch.held), p, holding=True)
         if planned is not None:
             self.record.receiving = planned.receiving
             self._enter(Phase.CARRY, p.time)
@@ -248,9 +249,9 @@ class HandoverCycle:
     def _plan_way_back(self, p: Percepts) -> None:
         if p.time < self._retry_at:
             return
-        lift = self._fetch.lift[1]
+        lift = self._fetch.lift
         lifted = lift.state(lift.duration)[0]
-        put_back = self._planner.put_back(p.q, self._fetch.held, lifted, self._putting.came)
+        put_back = self.planner.put_back(p.q, self._fetch.held, lifted, self._putting.came)
         planned = self._plan(put_back, p, holding=True)
         if planned is not None:
             self._motions.play(planned.motions)
@@ -267,8 +268,8 @@ class HandoverCycle:
         straight back, the robot retreats; then it fetches the next object."""
         if p.time - self._putting.since < self._params.settle_s:
             return
-        planned = self._planner.back_off(p.q, self._fetch.held)
-        self.record.planning_s += planned.seconds
+        planned = self.planner.back_off(p.q, self._fetch.held)
+        self.record.planning_s += planned.plan_seconds
         if planned.ok:
             self._motions.play(planned.motions)
             self._putting = self._putting.advanced(p.time)
@@ -352,8 +353,8 @@ class HandoverCycle:
     def _follow(self, p: Percepts) -> None:
         """Re-target state to state (ruckig) to hold the object out at the hand."""
         aim = self._follower.aim(p)
-        planned = self._planner.follow(p.q, np.zeros_like(p.q), aim, self._fetch.held)
-        self.record.planning_s += planned.seconds
+        planned = self.planner.follow(p.q, np.zeros_like(p.q), aim, self._fetch.held)
+        self.record.planning_s += planned.plan_seconds
         if planned.ok:
             self._motions.play(planned.motions)
             self.view = self.view.updated(planned.view)
@@ -379,12 +380,10 @@ class HandoverCycle:
 
     # Helpers ----------------------------------------------------------------------------------
 
-    def _plan(
-        self, planned: PlannedMotions, p: Percepts, holding: bool = False
-    ) -> PlannedMotions | None:
+    def _plan(self, planned: Plan, p: Percepts, holding: bool = False) -> Plan | None:
         """The motions planned, or None: to be tried again after `retry_every_s`, or, once the
         plan has found no way for `patience_s`, failed as unreachable."""
-        self.record.planning_s += planned.seconds
+        self.record.planning_s += planned.plan_seconds
         if planned.ok:
             self._blocked = None
             self.view = self.view.updated(planned.view)
@@ -431,8 +430,8 @@ class HandoverCycle:
         # Known now, not only once folded: a run that ends mid-retreat still says why.
         self.record.failure, self.record.reason = failure, reason
         held, let_go = (self._fetch.held, None) if holding else (None, self._fetch.held)
-        planned = self._planner.retreat(p.q, held, let_go)
-        self.record.planning_s += planned.seconds
+        planned = self.planner.retreat(p.q, held, let_go)
+        self.record.planning_s += planned.plan_seconds
         if not planned.ok:
             self._finish(phase, failure, reason, p.time)
             return

@@ -11,8 +11,7 @@ from typing import Protocol
 
 import numpy as np
 
-from hsr_handover.robot.handover.plan_view import PlanView
-from hsr_handover.robot.planning.outcome import Outcome
+from hsr_handover.robot.planning.plan import Plan
 
 
 class Phase(enum.Enum):
@@ -43,15 +42,6 @@ class Failure(enum.Enum):
     TIMEOUT = "timeout"
 
 
-class Motion(Protocol):
-    """A timed motion over the planning plant's positions."""
-
-    duration: float
-
-    def state(self, time: float) -> tuple[np.ndarray, np.ndarray]:
-        """Positions and velocities at `time` s from its start (held at its ends)."""
-
-
 @dataclasses.dataclass(frozen=True)
 class Percepts:
     """What the robot knows at `time` s: its measured positions `q` (planning plant order), the
@@ -80,46 +70,33 @@ class Percepts:
     correction: str | None = None
 
 
-@dataclasses.dataclass(frozen=True, kw_only=True)
-class PlannedMotions(Outcome):
-    """A planner's answer: `ok` with the `motions` in order, or not with the `reason`; the
-    wall `seconds` it took; a carry's `receiving` side ("r" or "l": the person's arm it
-    hands to)."""
-
-    motions: tuple[tuple[str, Motion], ...] = ()
-    seconds: float = 0.0
-    held: object = None  # a grasp's: the object as the hand will hold it, for later plans
-    view: PlanView | None = None  # what the plan shows in the replay
-    receiving: str = ""
-
-
 class CyclePlanner(Protocol):
     """The motions the cycle asks for, planned from what the robot perceives."""
 
-    def grasp(self, label: str, q: np.ndarray) -> PlannedMotions:
+    def grasp(self, label: str, q: np.ndarray) -> Plan:
         """To the pre-grasp and along the approach (gripper open), then the lift ("lift",
         gripper closed), as named motions."""
 
-    def carry(self, q: np.ndarray, held: object) -> PlannedMotions:
+    def carry(self, q: np.ndarray, held: object) -> Plan:
         """From the lifted object to the handover point, holding the grasp's `held`."""
 
-    def follow(self, q: np.ndarray, v: np.ndarray, aim: np.ndarray, held: object) -> PlannedMotions:
+    def follow(self, q: np.ndarray, v: np.ndarray, aim: np.ndarray, held: object) -> Plan:
         """State to state, to hold the object out at `aim` (m, world: `CycleParams.offer` in
         front of the person's hand), or beside it where the person's perceived hand leaves no
         room there."""
 
-    def retreat(self, q: np.ndarray, held: object, let_go: object = None) -> PlannedMotions:
+    def retreat(self, q: np.ndarray, held: object, let_go: object = None) -> Plan:
         """Back to the ready posture, with the object `held` or (None) without; `let_go` is the
         object just let go of (or missed), still between the fingers, to back away from."""
 
     def put_back(
         self, q: np.ndarray, held: object, lifted: np.ndarray, came: list[np.ndarray]
-    ) -> PlannedMotions:
+    ) -> Plan:
         """Holding `held`, back to `lifted` (the configuration the grasp's lift ended in) along
         the way it `came` from there (configurations, possibly none), then down to where it
         was grasped."""
 
-    def back_off(self, q: np.ndarray, let_go: object) -> PlannedMotions:
+    def back_off(self, q: np.ndarray, let_go: object) -> Plan:
         """The hand straight back from the object just let go of (no motion when it is clear
         of it already)."""
 

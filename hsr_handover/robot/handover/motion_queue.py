@@ -9,25 +9,28 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from hsr_handover.robot.handover.cycle_types import Motion
+from hsr_handover.robot.planning.plan import Motion
 
 
 @dataclasses.dataclass(frozen=True)
 class Running:
-    """The motion under way: its `name`, the `motion` and when it started (`start`, s)."""
+    """The motion under way: the `motion` and when it started (`start`, s)."""
 
-    name: str
     motion: Motion
     start: float
 
+    @property
+    def name(self) -> str:
+        return self.motion.name
+
 
 class MotionQueue:
-    """Plays named motions in order. A copy shares the motions, which are never changed once
+    """Plays motions in order. A copy shares the motions, which are never changed once
     made, and copies the queue."""
 
     def __init__(self):
         self.running: Running | None = None
-        self._queue: list[tuple[str, Motion]] = []
+        self._queue: list[Motion] = []
         self._hold: tuple[np.ndarray, np.ndarray] | None = None  # (q, 0) to stand still at
 
     def __deepcopy__(self, memo: dict) -> MotionQueue:
@@ -40,7 +43,7 @@ class MotionQueue:
         """The name of the motion under way, None when none is."""
         return None if self.running is None else self.running.name
 
-    def play(self, motions: Iterable[tuple[str, Motion]]) -> None:
+    def play(self, motions: Iterable[Motion]) -> None:
         """Queue `motions` in place of those queued (the one under way plays on)."""
         self._queue = list(motions)
 
@@ -55,9 +58,9 @@ class MotionQueue:
             self._hold, self.running = (end, np.zeros_like(end)), None
         if not self._queue:
             return None
-        name, motion = self._queue.pop(0)
-        self.running = Running(name, motion, time)
-        return name
+        motion = self._queue.pop(0)
+        self.running = Running(motion, time)
+        return motion.name
 
     def played_so_far(self, name: str, time: float, samples: int = 16) -> list[np.ndarray]:
         """Configurations along the motion `name` under way, from its start to `time` (none

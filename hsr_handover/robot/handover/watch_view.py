@@ -24,11 +24,11 @@ from pydrake.math import RigidTransform
 
 from hsr_handover.hsr import CAMERA_FRAME, TORSO_JOINT
 from hsr_handover.interface.coco18 import keypoint_index
-from hsr_handover.robot.handover.cycle_types import Motion
 from hsr_handover.robot.perception.active_gaze import FACE_ABOVE
 from hsr_handover.robot.perception.object_shapes import ObjectShape
 from hsr_handover.robot.perception.torso_depth import seen_shoulders
 from hsr_handover.robot.planning.perceived_scene import BONES, behind
+from hsr_handover.robot.planning.plan import Motion
 from hsr_handover.robot.planning.planning_scene import PlanningScene
 
 LIFT = "arm_lift_joint"

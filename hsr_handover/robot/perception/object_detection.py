@@ -56,6 +56,14 @@ class DetectionResult:
     detections: tuple[Detection, ...]
     status: str
 
+    def seen(self, label: str) -> np.ndarray | None:
+        """The centre (m, world) of the largest detection of `label` located in depth, None
+        when there is none."""
+        for detection in self.detections:
+            if detection.label == label and np.all(np.isfinite(detection.center)):
+                return np.asarray(detection.center, dtype=float)
+        return None
+
 
 @dataclasses.dataclass(frozen=True)
 class DetectorSettings:

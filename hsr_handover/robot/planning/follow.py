@@ -12,21 +12,17 @@ import numpy as np
 
 from hsr_handover.robot.planning.inverse_kinematics import IkResult, PalmGoal, solve_palm_ik
 from hsr_handover.robot.planning.offer import object_extent, offer_points
-from hsr_handover.robot.planning.planner import DIP_ALLOWANCE, Held, holding
+from hsr_handover.robot.planning.plan import Motion, Plan
+from hsr_handover.robot.planning.planner import STAGES, Held, holding
 from hsr_handover.robot.planning.planning_scene import PlanningScene
-from hsr_handover.robot.planning.retarget import Retargeting, retarget
+from hsr_handover.robot.planning.retarget import retarget
+from hsr_handover.robot.planning.stopwatch import Stopwatch
 from hsr_handover.robot.planning.timing import JointLimits
 from hsr_handover.robot.planning.trajectory import COLLISION_BOUND
+from hsr_handover.robot.planning.verification import DIP_ALLOWANCE, timed_clearance
 
+FOLLOW = "follow"  # a follow plan's target and motion
 FOLLOW_CHECK_S = 0.05  # s between the clearance checks of a re-targeted motion
-
-
-@dataclasses.dataclass(frozen=True)
-class FollowMove:
-    """The `motion` to the hand and "ok", or None and the `reason` there is none."""
-
-    motion: Retargeting | None
-    reason: str
 
 
 def plan_follow(
@@ -36,20 +32,24 @@ def plan_follow(
     v: np.ndarray,
     held: Held | None,
     limits: JointLimits,
-) -> FollowMove:
+) -> Plan:
     """From `q` at velocities `v` (plant order), the hand to `goal`, holding `held` (None:
     nothing); where the object there would be inside the person's perceived capsules, to the
-    nearest point round `goal.point` where it fits."""
+    nearest point round `goal.point` where it fits. One "follow" motion, or not ok with the
+    reason of the last point tried."""
     ignore = () if held is None else (held.label,)
     extent = object_extent(None if held is None else held.shape)
     reason = "no point at the hand clear of the person"
+    watch = Stopwatch(STAGES)
     with holding(scene, held, q):
         for point in offer_points(goal.point, scene.scene.person, extent):
             at_point = dataclasses.replace(goal, point=point)
-            motion, reason = _move(scene, q, v, at_point, ignore, limits)
+            motion, reason = _move(scene, q, v, at_point, ignore, limits, watch)
             if motion is not None:
-                return FollowMove(motion, "ok")
-    return FollowMove(None, reason)
+                goal_q = motion.state(motion.duration)[0]
+                return Plan(ok=True, reason="ok", target=FOLLOW, motions=(motion,),
+                            seconds=watch.snapshot(), goal=goal_q)  # fmt: skip
+    return Plan(ok=False, reason=reason, target=FOLLOW, seconds=watch.snapshot())
 
 
 def _move(
@@ -59,17 +59,21 @@ def _move(
     goal: PalmGoal,
     ignore: tuple[str, ...],
     limits: JointLimits,
-) -> tuple[Retargeting | None, str]:
+    watch: Stopwatch,
+) -> tuple[Motion | None, str]:
     """The motion that brings the hand to `goal` clear of the scene and "ok", or None and
     why not."""
-    found = _palm_ik(scene, goal, q, ignore)
+    with watch.stage("ik"):
+        found = _palm_ik(scene, goal, q, ignore)
     if not found.ok:
         return None, found.reason
-    motion = retarget(q, v, np.zeros_like(q), found.q, limits)
-    if not motion.ok:
-        return None, motion.reason
-    _, positions = motion.sample(FOLLOW_CHECK_S)
-    clearance = min(scene.clearance_at(p, ignore) for p in positions)
+    with watch.stage("timing"):
+        retargeted = retarget(q, v, np.zeros_like(q), found.q, limits)
+    if not retargeted.ok:
+        return None, retargeted.reason
+    motion = Motion(name=FOLLOW, trajectory=retargeted, ignore=ignore)
+    with watch.stage("optimisation"):
+        clearance = timed_clearance(scene, motion, FOLLOW_CHECK_S)
     if clearance < COLLISION_BOUND - DIP_ALLOWANCE:
         return None, f"the way to the hand comes {clearance:.3f} m near"
     return motion, "ok"

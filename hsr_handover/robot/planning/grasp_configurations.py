@@ -8,7 +8,6 @@ never an exception.
 from __future__ import annotations
 
 import dataclasses
-import time
 from collections.abc import Iterator
 
 import numpy as np
@@ -27,15 +26,14 @@ UNREACHABLE = "unreachable"
 @dataclasses.dataclass(frozen=True, kw_only=True)
 class GraspConfigurations(Outcome):
     """`ok` with the `grasp`, `q_pregrasp`, `q_grasp` (open round the object) and `q_lifted`
-    (closed on it, lifted) (plant positions), or not with the `reason`; `ik_solves` tried and
-    their `seconds`."""
+    (closed on it, lifted) (plant positions), or not with the `reason`; the `ik_solves`
+    tried."""
 
     grasp: Grasp | None = None
     q_pregrasp: np.ndarray | None = None
     q_grasp: np.ndarray | None = None
     q_lifted: np.ndarray | None = None
     ik_solves: int = 0
-    seconds: float = 0.0
 
 
 def grasp_configurations(
@@ -43,7 +41,6 @@ def grasp_configurations(
 ) -> GraspConfigurations:
     """Grasp the perceived object `label` from the robot's configuration `q_now`; with
     `arm_map` None, IK starts from the arm as it is (the unseeded baseline)."""
-    start = time.perf_counter()
     shape = scene.scene.object_named(label)
     if shape is None:
         return GraspConfigurations(ok=False, reason=f"{UNREACHABLE}: {label!r} is not in the scene")
@@ -61,14 +58,12 @@ def grasp_configurations(
         lifted = solve_palm_ik(scene, held, at_grasp.q, ignore=(label,), base_fixed=True)
         solves += 2
         if at_pregrasp.ok and lifted.ok:
-            seconds = time.perf_counter() - start
             return GraspConfigurations(
                 ok=True, reason="ok", grasp=grasp, q_pregrasp=at_pregrasp.q, q_grasp=at_grasp.q,
-                q_lifted=lifted.q, ik_solves=solves, seconds=seconds,
+                q_lifted=lifted.q, ik_solves=solves,
             )  # fmt: skip
     reason = f"{UNREACHABLE}: no grasp of {label!r} passed inverse kinematics"
-    return GraspConfigurations(ok=False, reason=reason, ik_solves=solves,
-                               seconds=time.perf_counter() - start)  # fmt: skip
+    return GraspConfigurations(ok=False, reason=reason, ik_solves=solves)
 
 
 def _placements(

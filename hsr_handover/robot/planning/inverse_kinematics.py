@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import time
 
 import numpy as np
 from pydrake.multibody.inverse_kinematics import InverseKinematics
@@ -40,10 +39,9 @@ class PalmGoal:
 
 @dataclasses.dataclass(frozen=True, kw_only=True)
 class IkResult(Outcome):
-    """`ok` with the plant's positions `q`, or not with the `reason`; `seconds` spent."""
+    """`ok` with the plant's positions `q`, or not with the `reason`."""
 
     q: np.ndarray
-    seconds: float
 
 
 def solve_palm_ik(
@@ -57,12 +55,9 @@ def solve_palm_ik(
     """The configuration nearest `seed` (plant positions) that puts the hand at `goal`, clear
     of everything but the obstacles named in `ignore`; the base stays at the seed's pose when
     `base_fixed`. Never raises for an unreachable goal: `ok` is False and `reason` says why."""
-    start = time.perf_counter()
     seed = np.asarray(seed, dtype=float)
     if not (np.all(np.isfinite(seed)) and np.all(np.isfinite(goal.point))):
-        return IkResult(
-            ok=False, q=seed, reason="non-finite seed or goal", seconds=time.perf_counter() - start
-        )
+        return IkResult(ok=False, q=seed, reason="non-finite seed or goal")
     plant = scene.plant
     seed = np.clip(seed, plant.GetPositionLowerLimits(), plant.GetPositionUpperLimits())
     with scene.ignoring(ignore):
@@ -70,11 +65,10 @@ def solve_palm_ik(
         result = solve(ik.prog(), seed)
         usable = solved(ik.prog(), result)
     q = result.GetSolution(ik.q())
-    seconds = time.perf_counter() - start
     if not usable:
         solver = f"{result.get_solver_id().name()} {result.get_solution_result().name}"
-        return IkResult(ok=False, q=q, reason=f"no IK solution ({solver})", seconds=seconds)
-    return IkResult(ok=True, q=q, reason="ok", seconds=seconds)
+        return IkResult(ok=False, q=q, reason=f"no IK solution ({solver})")
+    return IkResult(ok=True, q=q, reason="ok")
 
 
 def _build(scene, goal: PalmGoal, seed, base_fixed: bool, min_distance: float):

@@ -40,6 +40,11 @@ class Retargeting(Outcome):
         )
         return np.array(position), np.array(velocity), np.array(acceleration)
 
+    def state(self, time: float) -> tuple[np.ndarray, np.ndarray]:
+        """Positions and velocities (nq,) at `time` s, held at the ends."""
+        position, velocity, _ = self.at(time)
+        return position, velocity
+
     def sample(self, step: float) -> tuple[np.ndarray, np.ndarray]:
         """Times (n,) every `step` s from 0, the end included, and the positions (n, nq)."""
         times = sample_times(self.duration, step)

@@ -129,6 +129,18 @@ class TimedTrajectory:
     def duration(self) -> float:
         return self._duration
 
+    @property
+    def stretch(self) -> float:
+        """The factor (>= 1) toppra's timing was slowed by to keep the limits between its grid
+        points."""
+        return self._stretch
+
+    @property
+    def toppra_timing(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """toppra's grid points s along the path and the path speeds ds/dt there, before the
+        stretch (None: nothing moves)."""
+        return None if self._timing is None else (self._timing.grid, self._timing.speeds)
+
     def start_time(self) -> float:
         return 0.0
 
@@ -171,11 +183,11 @@ class _ConstAccelTiming:
     `toppra.parametrizer.ParametrizeConstAccel`, without its per-time Python loop)."""
 
     def __init__(self, grid: np.ndarray, path_speeds: np.ndarray):
-        self._grid = np.asarray(grid, dtype=float)
-        self._speeds = np.asarray(path_speeds, dtype=float)
-        steps = np.diff(self._grid)
-        self._accelerations = 0.5 * np.diff(self._speeds**2) / steps
-        steps_time = 2 * steps / (self._speeds[:-1] + self._speeds[1:])
+        self.grid = np.asarray(grid, dtype=float)
+        self.speeds = np.asarray(path_speeds, dtype=float)
+        steps = np.diff(self.grid)
+        self._accelerations = 0.5 * np.diff(self.speeds**2) / steps
+        steps_time = 2 * steps / (self.speeds[:-1] + self.speeds[1:])
         self._times = np.concatenate([[0.0], np.cumsum(steps_time)])
         self.duration = float(self._times[-1])
 
@@ -184,8 +196,8 @@ class _ConstAccelTiming:
         last = len(self._accelerations) - 1
         index = np.minimum(np.searchsorted(self._times, times, side="right") - 1, last)
         elapsed = times - self._times[index]
-        acceleration, speed = self._accelerations[index], self._speeds[index]
-        position = self._grid[index] + elapsed * speed + 0.5 * elapsed**2 * acceleration
+        acceleration, speed = self._accelerations[index], self.speeds[index]
+        position = self.grid[index] + elapsed * speed + 0.5 * elapsed**2 * acceleration
         return position, speed + elapsed * acceleration, acceleration
 
 
@@ -200,6 +212,10 @@ class TimedPath(Outcome):
 
     duration: float = 0.0
     trajectory: TimedTrajectory | None = None
+
+    def state(self, time: float) -> tuple[np.ndarray, np.ndarray]:
+        """Positions and velocities (nq,) at `time` s from the start (held at the ends)."""
+        return self.trajectory.state(time)
 
     def sample(self, step: float) -> tuple[np.ndarray, np.ndarray]:
         """Times (n,) every `step` s from 0, the end included, and the positions (n, nq)."""

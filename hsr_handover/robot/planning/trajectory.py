@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import time
 
 import numpy as np
 from pydrake.multibody.inverse_kinematics import MinimumDistanceLowerBoundConstraint
@@ -54,10 +53,9 @@ FREE_POSITION = 20.0  # m: stands in for the base's unbounded x and y
 @dataclasses.dataclass(frozen=True, kw_only=True)
 class PathResult(Outcome):
     """`ok` with the `path` (a B-spline over plant positions, on its own time scale), or not
-    with the `reason`; `seconds` spent."""
+    with the `reason`."""
 
     path: BsplineTrajectory | None
-    seconds: float
 
 
 @dataclasses.dataclass(frozen=True)
@@ -157,7 +155,6 @@ def optimize_path(
     `guess` (nq, any count; the straight line through CONTROL_POINTS when None), kept clear at
     `samples` evenly spaced points, and of the `target` (one of `ignore`) by its bound. Never
     raises for an infeasible problem: `ok` is False and `reason` says why."""
-    start = time.perf_counter()
     guess = straight_guess(q_start, q_goal) if guess is None else guess
     contact = start_contact(scene, q_start, ignore)
     # A context that sees the target alone, made before the target is ignored with the rest.
@@ -172,13 +169,10 @@ def optimize_path(
         result = solve(trajopt.prog())
         usable = solved(trajopt.prog(), result)
         del constraints  # the solve is done; the constraints held the plant contexts
-    seconds = time.perf_counter() - start
     if not usable:
         reason = f"no path ({result.get_solver_id().name()} {result.get_solution_result().name})"
-        return PathResult(ok=False, reason=reason, path=None, seconds=seconds)
-    return PathResult(
-        ok=True, reason="ok", path=trajopt.ReconstructTrajectory(result), seconds=seconds
-    )
+        return PathResult(ok=False, reason=reason, path=None)
+    return PathResult(ok=True, reason="ok", path=trajopt.ReconstructTrajectory(result))
 
 
 def _build(

@@ -15,11 +15,10 @@ stands; the ready posture before any), `gripper_desired_opening`, `cycle` (the r
 watches for a request, else 0: the perception that serves only the watch rests, see
 `systems.watching`).
 
-While the robot lifts and carries, it watches for a correction itself: an `IntentTracker`
-that takes over from the intent estimator's (`IntentTracker.correcting`) judges the frames
-the supervisor reads anyway (one in three), the objects where last seen, until the person asks
-for another object (`Percepts.correction`). The estimator, kept awake for it, had the camera
-render every frame while the robot acted.
+While the robot lifts and carries, it watches for a correction itself (`CorrectionWatch`), on
+the frames it reads anyway (one in three), until the person asks for another object
+(`Percepts.correction`). The estimator, kept awake for it, had the camera render every frame
+while the robot acted.
 """
 
 from __future__ import annotations
@@ -32,11 +31,11 @@ from pydrake.common.value import AbstractValue
 from pydrake.systems.framework import BasicVector, Context, LeafSystem, State
 
 from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY, HEAD_JOINTS
-from hsr_handover.interface.coco18 import keypoint_index
 from hsr_handover.robot.effectivity.arm_map import ArmEffectivity
 from hsr_handover.robot.effectivity.person_map import RECEIVING_SIDES, HumanArm, receiving_arms
+from hsr_handover.robot.handover.correction_watch import CorrectionWatch
 from hsr_handover.robot.handover.cycle import HandoverCycle
-from hsr_handover.robot.handover.cycle_types import CycleRecord, Motion, Percepts, Phase
+from hsr_handover.robot.handover.cycle_types import CycleRecord, Percepts, Phase
 from hsr_handover.robot.handover.gaze import look_at
 from hsr_handover.robot.handover.look_round import (
     LOOK_AROUND_PANS,
@@ -46,14 +45,16 @@ from hsr_handover.robot.handover.look_round import (
     look_round_pan,
 )
 from hsr_handover.robot.handover.perceived_planner import PerceivedPlanner, pads_centre
-from hsr_handover.robot.handover.plan_view import PlanView
+from hsr_handover.robot.handover.person_points import face_point, person_point, wrist
 from hsr_handover.robot.handover.scene_memory import remember
 from hsr_handover.robot.handover.watch_view import WatchView
-from hsr_handover.robot.intent import IntentParams, IntentState, IntentTracker
+from hsr_handover.robot.intent import IntentParams, IntentState
 from hsr_handover.robot.perception.facing import SteadyFacing
 from hsr_handover.robot.perception.object_detection import DetectionResult
 from hsr_handover.robot.perception.skeleton import Skeleton
 from hsr_handover.robot.planning.perceived_scene import PerceivedScene
+from hsr_handover.robot.planning.plan import Motion
+from hsr_handover.robot.planning.plan_view import PlanView
 from hsr_handover.robot.systems.watching import WATCHING
 
 TICK_S = 0.1  # s between the supervisor's decisions
@@ -74,12 +75,12 @@ class _Memory:
     remembered, and where it watches from."""
 
     machine: HandoverCycle
+    correcting: CorrectionWatch  # for another object asked for, once it has lifted
     arms: tuple[HumanArm, ...] = ()
     facing: SteadyFacing = dataclasses.field(default_factory=SteadyFacing)
     head: tuple[float, float] | None = None  # (pan, tilt) rad while the cycle looks at a point
     scene: PerceivedScene | None = None
     view: WatchView = dataclasses.field(default_factory=WatchView)  # where it watches from
-    correcting: IntentTracker | None = None  # watching for a correction, once it has lifted
 
 
 class HandoverSupervisor(LeafSystem):
@@ -115,7 +116,9 @@ class HandoverSupervisor(LeafSystem):
         )
         # Optional: the GazeController's move; unconnected, the head holds the ready posture's.
         self._gaze = self.DeclareVectorInputPort("head_command", 4)
-        memory = _Memory(HandoverCycle(self._planner))
+        memory = _Memory(
+            HandoverCycle(self._planner), correcting=CorrectionWatch(self._intent_params)
+        )
         self._memory = self.DeclareAbstractState(AbstractValue.Make(memory))
         # Evaluated at each plant step: streamed at 100 Hz instead (a discrete state), the
         # 10 ms steps in the commanded fingers and arm shook held objects loose.
@@ -154,7 +157,7 @@ class HandoverSupervisor(LeafSystem):
             self._raise_view(context, skeleton, memory)
         if context.get_time() < LOOK_ROUND_S:  # it looks round before it acts
             return
-        self._planner.perceive(memory.scene, memory.arms)
+        memory.machine.planner = memory.machine.planner.perceiving(memory.scene, memory.arms)
         percepts = self._percepts(context, skeleton, arms, memory)
         memory.machine.step(percepts)
         point = memory.machine.gaze()
@@ -171,23 +174,6 @@ class HandoverSupervisor(LeafSystem):
         shapes = [shape.centroid for shape in memory.scene.objects if shape.label == label]
         return shapes[0] if shapes else None
 
-    def _correction(self, context: Context, skeleton, memory: _Memory) -> str | None:
-        """Another object the person asks for while the robot lifts or carries one (None
-        before it lifts, once it has heeded one, and while none is asked for)."""
-        record = memory.machine.record
-        if record.phase not in (Phase.LIFT, Phase.CARRY) or record.first_target is not None:
-            return None
-        if memory.correcting is None:
-            intent = self._intent.Eval(context)
-            memory.correcting = IntentTracker.correcting(intent, self._intent_params)
-        known = {label for label, _ in memory.correcting.state_.objects}
-        seen = [(d.label, d.center) for d in self._detections.Eval(context).detections
-                if d.label in known and np.all(np.isfinite(d.center))]  # fmt: skip
-        state = memory.correcting.update(
-            context.get_time(), skeleton.points, skeleton.confidence, seen, skeleton.torso_forward
-        )
-        return state.correction
-
     def _raise_view(self, context: Context, skeleton, memory: _Memory) -> None:
         """Raise the torso if the objects would hide a pointing arm (`WatchView.weigh`), only
         while it watches for a request."""
@@ -203,9 +189,9 @@ class HandoverSupervisor(LeafSystem):
 
     def _plan_raise(self, memory: _Memory, q: np.ndarray, posture: np.ndarray) -> Motion | None:
         """The planner's motion to the posture it watches from, None if it finds none."""
-        self._planner.perceive(memory.scene, memory.arms)
-        planned = self._planner.posture(q, posture)
-        return planned.motions[0][1] if planned.ok else None
+        memory.machine.planner = memory.machine.planner.perceiving(memory.scene, memory.arms)
+        planned = memory.machine.planner.posture(q, posture)
+        return planned.motions[0] if planned.ok else None
 
     def _measured(self, context: Context) -> np.ndarray:
         """The HSR's measured positions (plant order), also set in the planner's robot."""
@@ -218,29 +204,22 @@ class HandoverSupervisor(LeafSystem):
     def _percepts(
         self, context: Context, skeleton, arms: tuple[HumanArm, ...], memory: _Memory
     ) -> Percepts:
-        q = self._measured(context)
+        time, q = context.get_time(), self._measured(context)
         opening = float(self._opening.Eval(context)[0])
-        target = self._intent.Eval(context).target
-        wanted = memory.machine.record.target or target  # what it is fetching, once it has begun
-        seen = None
-        for detection in self._detections.Eval(context).detections:
-            if detection.label == wanted and np.all(np.isfinite(detection.center)):
-                seen = np.asarray(detection.center, dtype=float)
-        side = memory.machine.record.receiving or RECEIVING_SIDES[0]
+        intent, record = self._intent.Eval(context), memory.machine.record
+        wanted = record.target or intent.target  # what it is fetching, once it has begun
+        detections = self._detections.Eval(context)
+        side = record.receiving or RECEIVING_SIDES[0]
         arm = next((arm for arm in arms if arm.side == side), None)
-        person = _person_point(skeleton, arm)
+        correction = memory.correcting.update(time, record, intent, skeleton, detections)
         palm_pose = self._planner.palm_pose(q)
         palm = pads_centre(palm_pose)
-        commanded, _, _ = memory.machine.command(context.get_time())
-        pull = (
-            0.0
-            if commanded is None
-            else float(np.linalg.norm(palm - self._planner.palm(commanded)))
-        )
+        commanded, _, _ = memory.machine.command(time)
+        pull = 0.0 if commanded is None else np.linalg.norm(palm - self._planner.palm(commanded))
         wrist_force = palm_pose.rotation() @ self._wrench.Eval(context)[3:]
-        return Percepts(context.get_time(), q, opening, target, seen, _wrist(skeleton, side), palm,
-                        person, float(pull), wrist_force, _face(skeleton),
-                        self._correction(context, skeleton, memory))  # fmt: skip
+        return Percepts(time, q, opening, intent.target, detections.seen(wanted),
+                        wrist(skeleton, side), palm, person_point(skeleton, arm), float(pull),
+                        wrist_force, face_point(skeleton), correction)  # fmt: skip
 
     def _calc_state(self, context: Context, output: BasicVector) -> None:
         time = context.get_time()
@@ -290,40 +269,3 @@ class HandoverSupervisor(LeafSystem):
 
     def _calc_plan_view(self, context: Context, output: AbstractValue) -> None:
         output.set_value(self._memory_of(context).machine.view)
-
-
-_WRISTS = {side: keypoint_index(f"{side}_wrist") for side in RECEIVING_SIDES}
-_UPPER_BODY = tuple(keypoint_index(name) for name in ("neck", "r_shoulder", "l_shoulder"))
-_FACE = tuple(keypoint_index(name) for name in ("nose", "r_eye", "l_eye", "r_ear", "l_ear"))
-
-
-def _keypoint(skeleton, index: int) -> np.ndarray | None:
-    """The keypoint `index` (m, world), None when not seen."""
-    if skeleton is None or skeleton.confidence[index] <= 0:
-        return None
-    point = skeleton.points[index]
-    return point if np.all(np.isfinite(point)) else None
-
-
-def _wrist(skeleton, side: str) -> np.ndarray | None:
-    """The receiving wrist on `side` ("r" or "l"; m, world), None when not seen."""
-    return _keypoint(skeleton, _WRISTS[side])
-
-
-def _first_seen(skeleton, indices: tuple[int, ...]) -> np.ndarray | None:
-    seen = (_keypoint(skeleton, index) for index in indices)
-    return next((point for point in seen if point is not None), None)
-
-
-def _face(skeleton) -> np.ndarray | None:
-    """A point of the person's face seen now (the nose, an eye or an ear), None if none is."""
-    return _first_seen(skeleton, _FACE)
-
-
-def _person_point(skeleton, arm: HumanArm | None) -> np.ndarray | None:
-    """A point on the person seen now: the receiving arm's shoulder, or else the neck or a
-    shoulder (presenting to a standing person at their chest, the robot's arm hides one
-    shoulder from its camera, and the arm's frame needs both); None when none is seen."""
-    if arm is not None:
-        return arm.shoulder
-    return _first_seen(skeleton, _UPPER_BODY)

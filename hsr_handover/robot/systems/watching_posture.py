@@ -12,11 +12,11 @@ from pydrake.common.value import AbstractValue
 from pydrake.systems.framework import BasicVector, Context, LeafSystem, State
 
 from hsr_handover.hsr import COMMANDED_JOINTS, HEAD_JOINTS
-from hsr_handover.robot.handover.perceived_planner import TimedMotion
 from hsr_handover.robot.handover.scene_memory import remember
 from hsr_handover.robot.handover.watch_view import WatchView
 from hsr_handover.robot.perception.skeleton import Skeleton
 from hsr_handover.robot.planning.perceived_scene import PerceivedScene
+from hsr_handover.robot.planning.plan import Motion
 from hsr_handover.robot.planning.planner import plan_posture
 from hsr_handover.robot.planning.planning_scene import PlanningScene
 from hsr_handover.robot.planning.timing import joint_limits
@@ -35,11 +35,11 @@ class _Watch:
     view: WatchView = dataclasses.field(default_factory=WatchView)
 
 
-def _plan(scene: PerceivedScene, q: np.ndarray, posture: np.ndarray) -> TimedMotion | None:
+def _plan(scene: PerceivedScene, q: np.ndarray, posture: np.ndarray) -> Motion | None:
     """A motion from `q` to `posture` clear of the perceived `scene`, None if there is none."""
     planning = PlanningScene(scene)
     plan = plan_posture(planning, q, posture, joint_limits(planning.plant))
-    return TimedMotion(plan.motions[0].timed) if plan.ok else None
+    return plan.motions[0] if plan.ok else None
 
 
 class WatchingPosture(LeafSystem):

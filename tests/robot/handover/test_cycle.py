@@ -16,8 +16,8 @@ from hsr_handover.robot.handover.cycle_types import (
     Failure,
     Percepts,
     Phase,
-    PlannedMotions,
 )
+from hsr_handover.robot.planning.plan import Motion, Plan
 
 PARAMS = CycleParams()
 TICK = 0.1
@@ -36,6 +36,12 @@ class Line:
         return self.start + s * (self.end - self.start), (self.end - self.start) / self.duration
 
 
+def _planned(*, ok: bool, reason: str, seconds: float, motions=(), **fields) -> Plan:
+    """A plan of the named `motions` ((name, trajectory) pairs) that took `seconds`."""
+    motions = tuple(Motion(name=name, trajectory=line) for name, line in motions)
+    return Plan(ok=ok, reason=reason, motions=motions, seconds={"all": seconds}, **fields)
+
+
 @dataclasses.dataclass
 class Planner:
     """Plans straight lines between fixed configurations; records what it was asked."""
@@ -48,45 +54,41 @@ class Planner:
     def grasp(self, label, q):
         self.asked.append(("grasp", label))
         if not self.grasp_ok or len(self.asked) <= self.grasp_failures:
-            return PlannedMotions(
-                ok=False, reason="unreachable: no base pose reaches it", seconds=0.2
-            )
+            return _planned(ok=False, reason="unreachable: no base pose reaches it", seconds=0.2)
         motions = (("move", Line(q, q + 1)), ("approach", Line(q + 1, q + 2)),
                    ("lift", Line(q + 2, q + 3)))  # fmt: skip
-        return PlannedMotions(ok=True, reason="ok", motions=motions, seconds=0.3, held="the grasp")
+        return _planned(ok=True, reason="ok", motions=motions, seconds=0.3, held="the grasp")
 
     def carry(self, q, held):
         self.asked.append(("carry", held))
-        return PlannedMotions(
+        return _planned(
             ok=True, reason="ok", motions=(("carry", Line(q, q + 1, 2.0)),), seconds=0.5
         )
 
     def follow(self, q, v, hand, held):
         self.asked.append(("follow", tuple(hand)))
-        return PlannedMotions(
+        return _planned(
             ok=True, reason="ok", motions=(("follow", Line(q, q + 0.5, 0.5)),), seconds=0.01
         )
 
     def retreat(self, q, held, let_go=None):
         self.asked.append(("retreat", held, let_go))
-        return PlannedMotions(
+        return _planned(
             ok=True, reason="ok", motions=(("retreat", Line(q, np.zeros_like(q))),), seconds=0.1
         )
 
     def back_off(self, q, let_go):
         self.asked.append(("back off", let_go))
         if not self.back_off_ok:
-            return PlannedMotions(
-                ok=False, reason="no way back from the object let go of", seconds=0.05
-            )
-        return PlannedMotions(
+            return _planned(ok=False, reason="no way back from the object let go of", seconds=0.05)
+        return _planned(
             ok=True, reason="ok", motions=(("back off", Line(q, q - 0.5, 0.5)),), seconds=0.05
         )
 
     def put_back(self, q, held, lifted, came):
         self.asked.append(("put back", held, tuple(lifted), len(came)))
         motions = (("put back", Line(q, lifted)), ("lower", Line(lifted, lifted - 1)))
-        return PlannedMotions(ok=True, reason="ok", motions=motions, seconds=0.2)
+        return _planned(ok=True, reason="ok", motions=motions, seconds=0.2)
 
 
 class World:

@@ -1,4 +1,5 @@
-"""PerceivedPlanner.follow: the state-to-state move that holds the object out at the hand."""
+"""PerceivedPlanner: one per percepts, and its follow, the state-to-state move that holds the
+object out at the hand."""
 
 from __future__ import annotations
 
@@ -14,9 +15,7 @@ from hsr_handover.robot.planning.perceived_scene import Capsule, PerceivedScene
 
 @pytest.fixture(scope="module")
 def planner():
-    planner = PerceivedPlanner(load_or_build()[0])
-    planner.perceive(PerceivedScene(None), ())
-    return planner
+    return PerceivedPlanner(load_or_build()[0])
 
 
 def _arm_out(planner: PerceivedPlanner) -> np.ndarray:
@@ -38,7 +37,7 @@ def test_a_hand_within_the_arms_reach_is_followed_by_the_arm_alone(planner):
     goal = planner.palm(q) + [0.0, 0.0, 0.05]  # the arm lifted
     planned = planner.follow(q, np.zeros_like(q), goal, None)
     assert planned.ok, planned.reason
-    end = planned.motions[-1][1].state(planned.motions[-1][1].duration)[0]
+    end = planned.motions[-1].state(planned.motions[-1].duration)[0]
     np.testing.assert_allclose(planner.palm(end), goal, atol=0.02)
     np.testing.assert_allclose(_base(planner, end), _base(planner, q), atol=1e-6)
 
@@ -48,7 +47,7 @@ def test_a_hand_beyond_the_arms_reach_is_followed_with_a_step_of_the_base(planne
     goal = planner.palm(q) + [0.12, 0.0, 0.0]  # the arm is already straight out
     planned = planner.follow(q, np.zeros_like(q), goal, None)
     assert planned.ok, planned.reason
-    end = planned.motions[-1][1].state(planned.motions[-1][1].duration)[0]
+    end = planned.motions[-1].state(planned.motions[-1].duration)[0]
     np.testing.assert_allclose(planner.palm(end), goal, atol=0.02)
     assert np.linalg.norm(_base(planner, end)[:2] - _base(planner, q)[:2]) > 0.05
 
@@ -56,16 +55,15 @@ def test_a_hand_beyond_the_arms_reach_is_followed_with_a_step_of_the_base(planne
 def test_a_hand_whose_forearm_covers_the_aim_gets_the_object_beside_it():
     """The aim in front of a held-out hand lies inside the perceived forearm's capsule: the
     object is held out beside it instead."""
-    scene_planner = PerceivedPlanner(load_or_build()[0])
-    scene_planner.perceive(PerceivedScene(None), ())
-    q = _arm_out(scene_planner)
+    unseen = PerceivedPlanner(load_or_build()[0])
+    q = _arm_out(unseen)
     # The wrist 32 cm beyond the object, its capsule running on 18 cm past it
-    aim = scene_planner.palm(q) + [0.12, 0.0, 0.0]  # `CycleParams.offer` (20 cm) before it
+    aim = unseen.palm(q) + [0.12, 0.0, 0.0]  # `CycleParams.offer` (20 cm) before it
     forearm = Capsule(aim + [0.46, 0.0, 0.0], aim + [0.02, 0.0, 0.0], 0.095)
-    scene_planner.perceive(PerceivedScene(None, person=(forearm,)), ())
+    scene_planner = unseen.perceiving(PerceivedScene(None, person=(forearm,)), ())
     planned = scene_planner.follow(q, np.zeros_like(q), aim, None)
     assert planned.ok, planned.reason
-    end = planned.motions[-1][1].state(planned.motions[-1][1].duration)[0]
+    end = planned.motions[-1].state(planned.motions[-1].duration)[0]
     palm = scene_planner.palm(end)
     assert np.linalg.norm(palm - aim) < 0.2  # beside the hand, not into it
     assert forearm.distance(palm)[0] > 0.05
@@ -77,15 +75,32 @@ def test_the_carry_hands_to_the_other_arm_when_the_first_has_no_mutual_area():
     facing = np.column_stack([[-1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0]])
     right = HumanArm("r", np.array([1.6, 0.2, 3.0]), facing, 0.32, 0.25, 0.09)
     left = HumanArm("l", np.array([1.6, -0.2, 1.35]), facing, 0.32, 0.25, 0.09)
-    carrier = PerceivedPlanner(load_or_build()[0])
-    q = carrier.robot.plant.GetDefaultPositions()
-    carrier.perceive(PerceivedScene(None), (right, left))
+    unseen = PerceivedPlanner(load_or_build()[0])
+    q = unseen.robot.plant.GetDefaultPositions()
+    carrier = unseen.perceiving(PerceivedScene(None), (right, left))
     planned = carrier.carry(q, None)
     assert planned.ok, planned.reason
     assert planned.receiving == "l"
-    end = planned.motions[-1][1].state(planned.motions[-1][1].duration)[0]
+    end = planned.motions[-1].state(planned.motions[-1].duration)[0]
     palm = carrier.palm(end)
     assert np.linalg.norm(palm - left.shoulder) < left.reach
-    carrier.perceive(PerceivedScene(None), (right,))
-    refused = carrier.carry(q, None)
+    refused = carrier.perceiving(PerceivedScene(None), (right,)).carry(q, None)
     assert not refused.ok and refused.reason.startswith("right arm: no mutual area")
+
+
+def test_newer_percepts_give_a_new_planner_and_leave_the_old_one_planning_in_its_own(planner):
+    """A planner is made for each tick's percepts: the same percepts give the same planner
+    back, other ones a new planner that plans in them, while the old one (which a cloned Drake
+    context may still hold) plans as before: nothing is shared but the robot's kinematics."""
+    q = _arm_out(planner)
+    aim = planner.palm(q) + [0.12, 0.0, 0.0]
+    forearm = Capsule(aim + [0.46, 0.0, 0.0], aim + [0.02, 0.0, 0.0], 0.095)
+    scene = PerceivedScene(None, person=(forearm,))
+    seen = planner.perceiving(scene, ())
+    assert seen is not planner and seen.perceiving(scene, ()) is seen
+    beside = seen.follow(q, np.zeros_like(q), aim, None)
+    at_aim = planner.follow(q, np.zeros_like(q), aim, None)
+    assert beside.ok and at_aim.ok, (beside.reason, at_aim.reason)
+    ends = [plan.motions[-1].state(plan.motions[-1].duration)[0] for plan in (beside, at_aim)]
+    assert np.linalg.norm(planner.palm(ends[0]) - aim) > 0.05  # round the forearm
+    np.testing.assert_allclose(planner.palm(ends[1]), aim, atol=0.02)  # nothing in the way

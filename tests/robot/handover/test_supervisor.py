@@ -8,9 +8,7 @@ import pytest
 from pydrake.systems.analysis import Simulator
 
 from hsr_handover.hsr import COMMANDED_JOINTS
-from hsr_handover.interface.coco18 import keypoint_index
 from hsr_handover.robot.effectivity.arm_map import load_or_build
-from hsr_handover.robot.effectivity.person_map import SHOULDER_DEPTH, receiving_arms
 from hsr_handover.robot.handover.cycle_params import CycleParams
 from hsr_handover.robot.handover.cycle_types import Failure, Phase
 from hsr_handover.robot.handover.look_round import (
@@ -24,13 +22,8 @@ from hsr_handover.robot.perception.object_detection import Detection, DetectionR
 from hsr_handover.robot.perception.object_shapes import BOX, ObjectShape
 from hsr_handover.robot.perception.skeleton import Skeleton
 from hsr_handover.robot.planning.perceived_scene import PerceivedScene
-from hsr_handover.robot.systems.handover_supervisor import (
-    VIEW_AFTER_S,
-    HandoverSupervisor,
-    _face,
-    _person_point,
-)
-from tests.robot.intent.synthetic_person import TRUE_FACE_TILT, keypoints
+from hsr_handover.robot.systems.handover_supervisor import VIEW_AFTER_S, HandoverSupervisor
+from tests.robot.intent.synthetic_person import keypoints
 
 PAN = COMMANDED_JOINTS.index("head_pan_joint")
 OPENING = 0.02
@@ -86,60 +79,6 @@ def test_a_request_for_an_object_it_never_perceived_fails_as_unreachable(supervi
     assert cycle.phase is Phase.FAILED and cycle.failure is Failure.UNREACHABLE
     assert cycle.target == "purple" and "purple" in cycle.reason
     assert system.GetOutputPort("watching").Eval(context)[0] == 0.0  # done watching
-
-
-def test_while_it_lifts_it_watches_for_a_correction_itself_on_its_own_frames():
-    """The intent estimator rests once the robot acts; lifting, the supervisor takes over its
-    objects and reads a new gesture at another one, from its own skeleton input (with the
-    estimator's params: here the synthetic face's tilt)."""
-    system, context, _ = _supervisor(IntentParams(face_tilt_deg=TRUE_FACE_TILT))
-    cups = {"green": np.array([0.80, 0.0, 0.77]), "blue": np.array([0.80, 0.22, 0.77])}
-    recognised = IntentState("green", 1.0, 3.0, objects=tuple(cups.items()))
-    system.GetInputPort("intent").FixValue(context, recognised)
-    record = system.memory(context).machine.record
-    record.phase, record.target = Phase.LIFT, "green"
-    resting, confidence = keypoints(look_at=cups["green"])
-    blue, _ = keypoints(look_at=cups["blue"], point_with="right", point_at=cups["blue"])
-    corrections = []
-    for step in range(40):  # 4 s of its ticks: 1.5 s resting, then pointing at the blue cup
-        points = resting if step < 15 else blue
-        skeleton = Skeleton(np.zeros((18, 2)), points, confidence)
-        system.GetInputPort("skeleton").FixValue(context, skeleton)
-        context.SetTime(LOOK_ROUND_S + 0.1 * step)
-        corrections.append(system._correction(context, skeleton, system.memory(context)))
-    assert corrections[:15] == [None] * 15 and corrections[-1] == "blue"
-    assert system.GetOutputPort("watching").Eval(context)[0] == 0.0  # the estimator rests
-
-
-def test_a_person_with_one_shoulder_hidden_is_still_in_view():
-    """Presenting to a standing person at their chest, the robot's arm hides one shoulder: the
-    arms take it mirrored through the neck; with the neck hidden too the arms' frame is gone,
-    but the person is not."""
-    points = np.full((18, 3), np.nan)
-    confidence = np.zeros(18)
-    neck, shoulder = keypoint_index("neck"), keypoint_index("r_shoulder")
-    points[[neck, shoulder]] = [[1.5, 0.2, 1.5], [1.5, 0.05, 1.5]]
-    confidence[[neck, shoulder]] = 0.9
-    skeleton = Skeleton(np.zeros((18, 2)), points, confidence)
-    _, left = receiving_arms([skeleton])
-    np.testing.assert_allclose(left.shoulder + SHOULDER_DEPTH * left.frame[:, 0], [1.5, 0.35, 1.5])
-    confidence[neck] = 0.0
-    skeleton = Skeleton(np.zeros((18, 2)), points, confidence)
-    assert receiving_arms([skeleton]) == ()
-    np.testing.assert_allclose(_person_point(skeleton, None), points[shoulder])
-    assert _person_point(Skeleton.missing("no person"), None) is None
-
-
-def test_the_face_is_read_apart_from_the_body():
-    """Eyes alone are a face seen, not a point of the body to hand toward."""
-    points = np.full((18, 3), np.nan)
-    confidence = np.zeros(18)
-    eye = keypoint_index("l_eye")
-    points[eye], confidence[eye] = [1.5, 0.25, 1.65], 0.8
-    skeleton = Skeleton(np.zeros((18, 2)), points, confidence)
-    np.testing.assert_allclose(_face(skeleton), points[eye])
-    assert _person_point(skeleton, None) is None
-    assert _face(Skeleton.missing("no person")) is None
 
 
 def test_the_persons_arm_faces_the_way_the_chest_faced_while_it_watched(supervisor):

@@ -4,18 +4,28 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 import pytest
 import scipy.optimize
-from pydrake.multibody.parsing import Parser
-from pydrake.multibody.plant import MultibodyPlant
 
-from hsr_handover.hsr import add_hsr
-from hsr_handover.robot.planning.timing import JointLimits, joint_limits
+if TYPE_CHECKING:
+    from pydrake.multibody.plant import MultibodyPlant
+
+    from hsr_handover.robot.planning.timing import JointLimits
+
+# Drake is imported by the fixtures that need it: the Drake-free tests in this folder
+# (tests/test_unit_without_drake.py) load this file too.
 
 
 @pytest.fixture(scope="module")
 def plant() -> MultibodyPlant:
+    from pydrake.multibody.parsing import Parser
+    from pydrake.multibody.plant import MultibodyPlant
+
+    from hsr_handover.hsr import add_hsr
+
     plant = MultibodyPlant(0.01)
     add_hsr(plant, Parser(plant))
     plant.Finalize()
@@ -24,6 +34,8 @@ def plant() -> MultibodyPlant:
 
 @pytest.fixture(scope="module")
 def limits(plant) -> JointLimits:
+    from hsr_handover.robot.planning.timing import joint_limits
+
     return joint_limits(plant)
 
 

@@ -10,8 +10,8 @@ import pytest
 
 from hsr_handover.hsr import BASE_JOINTS
 from hsr_handover.robot.perception.object_shapes import CYLINDER, ObjectShape
+from hsr_handover.robot.planning.paths import find_path
 from hsr_handover.robot.planning.perceived_scene import PerceivedScene
-from hsr_handover.robot.planning.planner import DIP_ALLOWANCE, _path
 from hsr_handover.robot.planning.planning_scene import PlanningScene
 from hsr_handover.robot.planning.trajectory import (
     COLLISION_BOUND,
@@ -19,6 +19,7 @@ from hsr_handover.robot.planning.trajectory import (
     Target,
     approached_target,
 )
+from hsr_handover.robot.planning.verification import DIP_ALLOWANCE
 from tests.robot.planning.conftest import slid_until
 
 TOUCHING = -0.01  # m: the goal is 1 cm inside the target
@@ -61,12 +62,12 @@ def test_the_bound_is_the_goals_own_less_the_slack_and_at_most_the_collision_bou
 
 def test_a_path_closing_on_its_target_comes_no_nearer_than_its_goal(scene, start, goal):
     target = approached_target(scene, goal, "target")
-    path, reason = _path(scene, start, goal, ("target",), straight=True, target=target)
+    path, reason = find_path(scene, start, goal, ("target",), straight=True, target=target)
     assert path is not None, reason
     assert _least(scene, path) >= target.bound - DIP_ALLOWANCE
 
 
 def test_ignored_outright_the_straight_way_runs_through_the_target(scene, start, goal):
-    path, reason = _path(scene, start, goal, ("target",), straight=True)
+    path, reason = find_path(scene, start, goal, ("target",), straight=True)
     assert path is not None, reason
     assert _least(scene, path) < -0.1

@@ -15,7 +15,7 @@ from hsr_handover.robot.effectivity.mutual_area import ABOVE_TABLE
 from hsr_handover.robot.effectivity.person_map import HumanArm, PersonEffectivity
 from hsr_handover.robot.perception.object_shapes import BOX, CYLINDER, ObjectShape
 from hsr_handover.robot.perception.table_fit import TableEstimate
-from hsr_handover.robot.planning import base_placement, grasps, handover_pose, planner
+from hsr_handover.robot.planning import base_placement, grasps, handover_pose, paths, planner
 from hsr_handover.robot.planning import grasp_configurations as configurations
 from hsr_handover.robot.planning.grasp_configurations import UNREACHABLE, grasp_configurations
 from hsr_handover.robot.planning.grasps import GRIP_CLEARANCE, LIFT_HEIGHT, PAD_OFFSET
@@ -26,19 +26,17 @@ from hsr_handover.robot.planning.inverse_kinematics import (
     PalmGoal,
     solve_palm_ik,
 )
+from hsr_handover.robot.planning.paths import find_path
 from hsr_handover.robot.planning.perceived_scene import Capsule, PerceivedScene
 from hsr_handover.robot.planning.planner import (
     BACK_OFF,
-    DIP_ALLOWANCE,
     LOWER,
     PUT_BACK,
     STAGES,
-    path_clearances,
     plan_back_off,
     plan_grasp,
     plan_handover,
     plan_put_back,
-    timed_clearance,
 )
 from hsr_handover.robot.planning.planning_scene import PlanningScene
 from hsr_handover.robot.planning.timing import joint_limits
@@ -48,6 +46,11 @@ from hsr_handover.robot.planning.trajectory import (
     STOWED,
     approached_target,
     optimize_path,
+)
+from hsr_handover.robot.planning.verification import (
+    DIP_ALLOWANCE,
+    path_clearances,
+    timed_clearance,
 )
 from tests.robot.planning.conftest import slid_until
 
@@ -183,10 +186,10 @@ def test_a_path_that_dips_between_its_samples_is_optimised_again_at_more(monkeyp
     dense = 96
     loose = optimize_path(scene, q_from, q_to, samples=7)
     assert loose.ok and path_clearances(scene, loose.path, (), dense).min() < -0.05
-    monkeypatch.setattr(planner, "COLLISION_SAMPLES", 7)
-    path, reason = planner._path(scene, q_from, q_to, (), straight=False)
+    monkeypatch.setattr(paths, "COLLISION_SAMPLES", 7)
+    path, reason = find_path(scene, q_from, q_to, (), straight=False)
     assert path is not None, reason
-    floor = COLLISION_BOUND - planner.DIP_ALLOWANCE
+    floor = COLLISION_BOUND - DIP_ALLOWANCE
     assert path_clearances(scene, path, (), dense).min() >= floor - 2e-3
 
 
@@ -238,10 +241,7 @@ def test_an_ik_failing_from_the_aims_placement_is_tried_from_the_points_own(
         goals.append(goal)
         if len(seeds) == 1:
             return IkResult(
-                ok=False,
-                q=np.array(seed),
-                reason="no IK solution (SNOPT kIterationLimit)",
-                seconds=0.0,
+                ok=False, q=np.array(seed), reason="no IK solution (SNOPT kIterationLimit)"
             )
         return real(scene, goal, seed, ignore=ignore)
 
@@ -290,20 +290,20 @@ def test_a_grasp_plan_is_timed_and_clear_every_10_ms(scene, arm_map):
     for motion in plan.motions:
         assert timed_clearance(scene, motion) >= COLLISION_BOUND - 0.012
     # The approach may touch the cup only as its end does.
-    _, approaching = plan.motions[1].timed.sample(0.01)
+    _, approaching = plan.motions[1].sample(0.01)
     bound = approached_target(scene, approaching[-1], "blue").bound
     to_cup = [scene.clearances_at(q).get("blue", np.inf) for q in approaching]
     assert min(to_cup) >= bound - DIP_ALLOWANCE
     # The gripper opens as the robot sets off: the move is planned open from its start, as
     # wide as the grasp's opening, and no path moves the fingers on its own.
     finger = scene.index(GRIPPER_JOINT)
-    _, moving = plan.motions[0].timed.sample(0.01)
+    _, moving = plan.motions[0].sample(0.01)
     opening = 0.07 + GRIP_CLEARANCE
     np.testing.assert_allclose(moving[:, finger], FINGER_PER_OPENING * opening, atol=1e-6)
-    _, positions = plan.motions[2].timed.sample(0.01)
+    _, positions = plan.motions[2].sample(0.01)
     np.testing.assert_allclose(positions[-1], plan.goal, atol=1e-6)
     lifted, _ = _pads(scene, plan.goal)
-    grasped, _ = _pads(scene, plan.motions[1].timed.sample(0.01)[1][-1])
+    grasped, _ = _pads(scene, plan.motions[1].sample(0.01)[1][-1])
     np.testing.assert_allclose(lifted - grasped, [0, 0, LIFT_HEIGHT], atol=0.011)
     # Then, holding the cup, to the person: a carry round the table into the mutual area.
     shoulder = np.array([1.75, 0.19, 1.03])
@@ -338,7 +338,7 @@ def test_a_posture_plan_ends_at_the_posture_clear_of_the_table(scene):
     assert plan.ok, plan.reason
     (motion,) = plan.motions
     assert motion.name == planner.POSTURE and motion.ignore == ()
-    _, positions = motion.timed.sample(0.01)
+    _, positions = motion.sample(0.01)
     np.testing.assert_allclose(positions[0], q_now, atol=1e-6)
     np.testing.assert_allclose(positions[-1], goal, atol=1e-6)
     assert timed_clearance(scene, motion) >= COLLISION_BOUND - 0.012
@@ -364,7 +364,7 @@ def test_an_object_is_put_back_the_way_it_came_and_lowered_onto_its_place(scene,
     person = PersonEffectivity(HumanArm("r", shoulder, frame, 0.30, 0.25, 0.09))
     handover = plan_handover(scene, arm_map, person, grasp.goal, limits, grasp.held)
     assert handover.ok, handover.reason
-    _, carried = handover.motions[0].timed.sample(0.05)
+    _, carried = handover.motions[0].sample(0.05)
     came = list(carried[: len(carried) // 2])
     plan = plan_put_back(scene, came[-1], grasp.held, grasp.goal, limits, came)
     assert plan.ok, plan.reason
@@ -372,7 +372,7 @@ def test_an_object_is_put_back_the_way_it_came_and_lowered_onto_its_place(scene,
     back, lower = plan.motions
     with scene.holding(grasp.held.label, grasp.held.q_grasp):  # the cup keeps clear on the way
         assert timed_clearance(scene, back) >= COLLISION_BOUND - 0.012
-    _, lowering = lower.timed.sample(0.01)
+    _, lowering = lower.sample(0.01)
     np.testing.assert_allclose(lowering[0], grasp.goal, atol=1e-6)
     np.testing.assert_allclose(lowering[-1], grasp.held.q_grasp, atol=1e-6)
     # Still where the lift ended: only the lift backwards.

@@ -11,8 +11,8 @@ import pytest
 from hsr_handover.hsr import BASE_JOINTS
 from hsr_handover.robot.perception.object_shapes import CYLINDER, ObjectShape
 from hsr_handover.robot.planning import trajectory
+from hsr_handover.robot.planning.paths import find_path
 from hsr_handover.robot.planning.perceived_scene import PerceivedScene
-from hsr_handover.robot.planning.planner import DIP_ALLOWANCE, _path, path_dips
 from hsr_handover.robot.planning.planning_scene import PlanningScene
 from hsr_handover.robot.planning.trajectory import (
     COLLISION_BOUND,
@@ -22,6 +22,7 @@ from hsr_handover.robot.planning.trajectory import (
     optimize_path,
     start_contact,
 )
+from hsr_handover.robot.planning.verification import DIP_ALLOWANCE, path_dips
 from tests.robot.planning.conftest import slid_until
 
 TOUCHING = -0.02  # m: the start is 2 cm inside the pillar beside it
@@ -86,7 +87,7 @@ def test_a_start_touching_one_obstacle_never_licenses_another(scene, start):
     assert _least(scene, result.path, "ahead") >= COLLISION_BOUND - DIP_ALLOWANCE
     assert _least(scene, result.path, "beside", ESCAPE_SHARE) >= TOUCHING - ESCAPE_SLACK - 0.012
     # The planner's check between samples holds it to the same bounds.
-    path, reason = _path(scene, start, goal, (), straight=False)
+    path, reason = find_path(scene, start, goal, (), straight=False)
     assert path is not None, reason
     dips = path_dips(scene, path, (), start_contact(scene, start), DENSE)
     assert dips.max() <= DIP_ALLOWANCE

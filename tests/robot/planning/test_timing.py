@@ -139,7 +139,7 @@ def test_the_per_step_state_is_the_trajectorys_positions_and_velocities(plant, l
     waypoints = rng.uniform(-0.8, 0.8, size=(4, plant.num_positions()))
     control = np.array([np.interp(np.linspace(0, 3, 20), np.arange(4), w) for w in waypoints.T])
     trajectory = time_path(BsplineTrajectory(BsplineBasis(4, 20), control), limits).trajectory
-    assert trajectory._stretch > 1.0  # the case where speeds are scaled back
+    assert trajectory.stretch > 1.0  # the case where speeds are scaled back
     for time in [-1.0, 0.0, *rng.uniform(0, trajectory.duration, 50), trajectory.duration, 99]:
         position, velocity = trajectory.state(time)
         np.testing.assert_allclose(position, trajectory.values([time])[0], atol=1e-12)
@@ -157,12 +157,12 @@ def test_the_timing_is_toppras_constant_acceleration_parametrisation(plant, limi
     path = _line(np.zeros_like(goal), goal)
     trajectory = time_path(path, limits).trajectory
     geometric = _DrakePath(path, np.arange(path.rows()))
-    timing = trajectory._timing
-    toppra_timing = ParametrizeConstAccel(geometric, timing._grid, timing._speeds)
-    assert trajectory.duration == pytest.approx(trajectory._stretch * toppra_timing.duration)
+    grid, speeds = trajectory.toppra_timing
+    toppra_timing = ParametrizeConstAccel(geometric, grid, speeds)
+    assert trajectory.duration == pytest.approx(trajectory.stretch * toppra_timing.duration)
     times = np.linspace(0.0, trajectory.duration, 37)
     for order in (0, 1, 2):
-        expected = toppra_timing(times / trajectory._stretch, order) / trajectory._stretch**order
+        expected = toppra_timing(times / trajectory.stretch, order) / trajectory.stretch**order
         np.testing.assert_allclose(trajectory.values(times, order), expected, atol=1e-10)
 
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hsr_handover.robot.handover.plan_view import PATH_STEP_S, PlanView, palm_path
+from hsr_handover.robot.planning.plan_view import PATH_STEP_S, PlanView, palm_path
 from tests.robot.handover.test_cycle import Line
 
 

@@ -1,0 +1,60 @@
+"""Whether a path keeps clear: its clearance, and how far it dips inside its bounds, checked
+densely between the optimiser's samples (docs/design.md §6: the samples alone let a path cut
+corners between them)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from hsr_handover.robot.planning.plan import Motion
+from hsr_handover.robot.planning.planning_scene import PlanningScene
+from hsr_handover.robot.planning.trajectory import COLLISION_BOUND, StartContact, Target
+
+CHECK_STEP = 0.01  # s between clearance checks of a timed trajectory
+VERIFY_PER_SAMPLE = 4  # an optimised path is checked at this many times its optimiser's samples
+DIP_ALLOWANCE = COLLISION_BOUND - 0.01
+"""m a path may come nearer between its samples than at them: 1 cm clear where the
+optimiser kept COLLISION_BOUND."""
+
+
+def path_clearances(
+    scene: PlanningScene, path, ignore: tuple[str, ...], samples: int
+) -> np.ndarray:
+    """The clearance (m) at `samples` evenly spaced times along a path or trajectory with
+    `value(t)` and `start_time()`, `end_time()`."""
+    times = np.linspace(path.start_time(), path.end_time(), samples)
+    return np.array([scene.clearance_at(path.value(t).ravel(), ignore) for t in times])
+
+
+def path_dips(
+    scene: PlanningScene,
+    path,
+    ignore: tuple[str, ...],
+    contact: StartContact,
+    samples: int,
+    target: Target | None = None,
+) -> np.ndarray:
+    """How far (m) a path (`value(t)`, `start_time()`, `end_time()`) from a start touching
+    `contact` comes inside its bounds (StartContact.bound, by obstacle; the `target`'s own,
+    though it is one of `ignore`) at `samples` evenly spaced times; negative where it keeps
+    clear of them all."""
+    name = "" if target is None else target.name
+    seen = tuple(other for other in ignore if other != name)
+    times = np.linspace(path.start_time(), path.end_time(), samples)
+    spots = np.linspace(0.0, 1.0, samples)
+    dips = []
+    for t, spot in zip(times, spots, strict=True):
+        clearances = scene.clearances_at(path.value(t).ravel(), seen)
+        to_target = clearances.pop(name, math.inf)
+        dip = contact.dip(clearances, spot)
+        dips.append(dip if target is None else max(dip, target.bound - to_target))
+    return np.array(dips)
+
+
+def timed_clearance(scene: PlanningScene, motion: Motion, step: float = CHECK_STEP) -> float:
+    """The least clearance (m) of a timed motion checked every `step` s (docs/design.md §6: the
+    optimiser's samples alone let the path dip between them)."""
+    _, positions = motion.sample(step)
+    return min(scene.clearance_at(q, motion.ignore) for q in positions)
