@@ -36,6 +36,10 @@ SENSORS = (
     CAMERA_DEPTH_IMAGE, CAMERA_POSE, CAMERA_INFO, CAMERA_IMAGE_TIME, SKELETON_KEYPOINTS,
 )  # fmt: skip
 
+COMMANDED_TRAJECTORIES = "commanded_trajectories"
+"""The robot's motions started so far (tuple of `interface.joint_trajectory.JointTrajectory`): for
+recording, never for the station, which takes `hsr_desired_state`."""
+
 TRUTH_PREFIX = "truth_"
 TRUTH_BODY_POSES = "truth_body_poses"
 TRUTH_CONTACT_RESULTS = "truth_contact_results"

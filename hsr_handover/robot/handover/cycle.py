@@ -102,6 +102,11 @@ class HandoverCycle:
         return q, v, self._gripper
 
     @property
+    def started(self) -> tuple[tuple[float, Motion], ...]:
+        """Every motion it has started, with when (s), in order."""
+        return tuple((running.start, running.motion) for running in self._motions.started)
+
+    @property
     def gripper(self) -> float:
         """The gripper opening (m) to command now."""
         return self._gripper

@@ -31,11 +31,13 @@ class MotionQueue:
     def __init__(self):
         self.running: Running | None = None
         self._queue: list[Motion] = []
+        self.started: list[Running] = []  # every motion started, in order
         self._hold: tuple[np.ndarray, np.ndarray] | None = None  # (q, 0) to stand still at
 
     def __deepcopy__(self, memo: dict) -> MotionQueue:
         clone = copy.copy(self)
         clone._queue = list(self._queue)
+        clone.started = list(self.started)
         return clone
 
     @property
@@ -60,6 +62,7 @@ class MotionQueue:
             return None
         motion = self._queue.pop(0)
         self.running = Running(motion, time)
+        self.started.append(self.running)
         return motion.name
 
     def played_so_far(self, name: str, time: float, samples: int = 16) -> list[np.ndarray]:

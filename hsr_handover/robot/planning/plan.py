@@ -28,6 +28,10 @@ class Trajectory(Protocol):
     def sample(self, step: float) -> tuple[np.ndarray, np.ndarray]:
         """Times (n,) every `step` s from 0, the end included, and the positions (n, nq)."""
 
+    def knot_times(self) -> np.ndarray:
+        """Times (s, rising, 0 and the end included) at which the trajectory is given as it
+        was timed: toppra's grid points, or ruckig's samples."""
+
 
 @dataclasses.dataclass(frozen=True, kw_only=True)
 class Motion:
@@ -49,6 +53,13 @@ class Motion:
     def sample(self, step: float) -> tuple[np.ndarray, np.ndarray]:
         """Times (n,) every `step` s from its start, the end included, and the positions."""
         return self.trajectory.sample(step)
+
+    def knots(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Times (n,) from its start at which it is given as it was timed, and the positions
+        and velocities (n, nq) then: what a joint trajectory controller is sent."""
+        times = self.trajectory.knot_times()
+        states = [self.state(float(t)) for t in times]
+        return times, np.array([q for q, _ in states]), np.array([v for _, v in states])
 
 
 @dataclasses.dataclass(frozen=True, kw_only=True)

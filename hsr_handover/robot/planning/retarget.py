@@ -21,6 +21,9 @@ from hsr_handover.robot.planning.timing import STILL, JointLimits, sample_times
 
 JERK_PER_ACCELERATION = 5.0  # 1/s: jerk limit = 5 x acceleration limit, full from rest in 0.2 s
 POSITION_TOLERANCE = 1e-9  # m or rad beyond a position limit still taken as within (rounding)
+KNOT_STEP_S = 0.02
+"""s between the samples a ruckig motion is given at to a trajectory controller: its
+jerk-limited phases last 0.2 s from rest, so 10 samples and more cover each."""
 
 
 @dataclasses.dataclass(frozen=True, kw_only=True)
@@ -44,6 +47,10 @@ class Retargeting(Outcome):
         """Positions and velocities (nq,) at `time` s, held at the ends."""
         position, velocity, _ = self.at(time)
         return position, velocity
+
+    def knot_times(self) -> np.ndarray:
+        """Times (s) every KNOT_STEP_S, the end included: ruckig's motion, sampled."""
+        return sample_times(self.duration, KNOT_STEP_S)
 
     def sample(self, step: float) -> tuple[np.ndarray, np.ndarray]:
         """Times (n,) every `step` s from 0, the end included, and the positions (n, nq)."""

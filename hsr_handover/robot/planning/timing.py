@@ -141,6 +141,12 @@ class TimedTrajectory:
         stretch (None: nothing moves)."""
         return None if self._timing is None else (self._timing.grid, self._timing.speeds)
 
+    def knot_times(self) -> np.ndarray:
+        """The times (s) of toppra's grid points, stretched: 0 and the end included."""
+        if self._timing is None:
+            return np.array([0.0])
+        return self._stretch * self._timing.times
+
     def start_time(self) -> float:
         return 0.0
 
@@ -188,14 +194,14 @@ class _ConstAccelTiming:
         steps = np.diff(self.grid)
         self._accelerations = 0.5 * np.diff(self.speeds**2) / steps
         steps_time = 2 * steps / (self.speeds[:-1] + self.speeds[1:])
-        self._times = np.concatenate([[0.0], np.cumsum(steps_time)])
-        self.duration = float(self._times[-1])
+        self.times = np.concatenate([[0.0], np.cumsum(steps_time)])
+        self.duration = float(self.times[-1])
 
     def at(self, times: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The path positions s, speeds ds/dt and accelerations at `times` (n,) s."""
         last = len(self._accelerations) - 1
-        index = np.minimum(np.searchsorted(self._times, times, side="right") - 1, last)
-        elapsed = times - self._times[index]
+        index = np.minimum(np.searchsorted(self.times, times, side="right") - 1, last)
+        elapsed = times - self.times[index]
         acceleration, speed = self._accelerations[index], self.speeds[index]
         position = self.grid[index] + elapsed * speed + 0.5 * elapsed**2 * acceleration
         return position, speed + elapsed * acceleration, acceleration
@@ -216,6 +222,10 @@ class TimedPath(Outcome):
     def state(self, time: float) -> tuple[np.ndarray, np.ndarray]:
         """Positions and velocities (nq,) at `time` s from the start (held at the ends)."""
         return self.trajectory.state(time)
+
+    def knot_times(self) -> np.ndarray:
+        """The times (s) of toppra's grid points along it (`TimedTrajectory.knot_times`)."""
+        return self.trajectory.knot_times()
 
     def sample(self, step: float) -> tuple[np.ndarray, np.ndarray]:
         """Times (n,) every `step` s from 0, the end included, and the positions (n, nq)."""

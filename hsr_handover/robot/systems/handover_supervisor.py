@@ -11,9 +11,10 @@ Once it has seen the person's shoulders and the objects, it raises its torso if 
 would hide a pointing arm from its camera (`watch_view`), and watches from there.
 Outputs: `hsr_desired_state` ([q; v] of COMMANDED_JOINTS: the motion under way, else where it
 stands; the ready posture before any), `gripper_desired_opening`, `cycle` (the record),
-`plan_view` (PlanView: what the plans show in the replay) and `watching` (1 while the cycle
+`plan_view` (PlanView: what the plans show in the replay), `watching` (1 while the cycle
 watches for a request, else 0: the perception that serves only the watch rests, see
-`systems.watching`).
+`systems.watching`) and `commanded_trajectories` (every motion started so far, as the HSR's
+trajectory controllers would be sent it: `interface.joint_trajectory`).
 
 While the robot lifts and carries, it watches for a correction itself (`CorrectionWatch`), on
 the frames it reads anyway (one in three), until the person asks for another object
@@ -31,6 +32,8 @@ from pydrake.common.value import AbstractValue
 from pydrake.systems.framework import BasicVector, Context, LeafSystem, State
 
 from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY, HEAD_JOINTS
+from hsr_handover.interface import COMMANDED_TRAJECTORIES
+from hsr_handover.interface.joint_trajectory import JointTrajectory
 from hsr_handover.robot.effectivity.arm_map import ArmEffectivity
 from hsr_handover.robot.effectivity.person_map import RECEIVING_SIDES, HumanArm, receiving_arms
 from hsr_handover.robot.handover.correction_watch import CorrectionWatch
@@ -58,6 +61,7 @@ from hsr_handover.robot.planning.plan_view import PlanView
 from hsr_handover.robot.systems.watching import WATCHING
 
 TICK_S = 0.1  # s between the supervisor's decisions
+RAISE = "raise"  # the move to the posture it watches from, as a commanded motion
 PAN, TILT = (COMMANDED_JOINTS.index(joint) for joint in HEAD_JOINTS)
 BODY_ROWS = [row for row, joint in enumerate(COMMANDED_JOINTS) if joint not in HEAD_JOINTS]
 VIEW_AFTER_S = LOOK_DWELL_S * len(LOOK_AROUND_PANS)
@@ -81,6 +85,7 @@ class _Memory:
     head: tuple[float, float] | None = None  # (pan, tilt) rad while the cycle looks at a point
     scene: PerceivedScene | None = None
     view: WatchView = dataclasses.field(default_factory=WatchView)  # where it watches from
+    commanded: tuple[JointTrajectory, ...] = ()  # the motions started, as controllers take them
 
 
 class HandoverSupervisor(LeafSystem):
@@ -135,6 +140,10 @@ class HandoverSupervisor(LeafSystem):
             WATCHING, 1, self._calc_watching,
             prerequisites_of_calc={self.abstract_state_ticket(self._memory)},
         )  # fmt: skip
+        self.DeclareAbstractOutputPort(
+            COMMANDED_TRAJECTORIES, lambda: AbstractValue.Make(()), self._calc_commanded,
+            prerequisites_of_calc={self.abstract_state_ticket(self._memory)},
+        )  # fmt: skip
         self.DeclarePeriodicUnrestrictedUpdateEvent(TICK_S, 0.0, self._tick)
 
     def _memory_of(self, context: Context) -> _Memory:
@@ -147,6 +156,11 @@ class HandoverSupervisor(LeafSystem):
 
     def _tick(self, context: Context, state: State) -> None:
         memory: _Memory = state.get_mutable_abstract_state(self._memory).get_value()
+        self._decide(context, memory)
+        memory.commanded = self._commanded(memory)
+
+    def _decide(self, context: Context, memory: _Memory) -> None:
+        """Look round, weigh where to watch from, and step the cycle on what it perceives."""
         skeleton = self._skeleton.Eval(context)
         if memory.machine.record.phase is Phase.WATCH:
             memory.facing = memory.facing.add(skeleton.torso_forward)
@@ -164,6 +178,24 @@ class HandoverSupervisor(LeafSystem):
         if point is None:
             point = self._target_unseen(memory)
         memory.head = None if point is None else look_at(self._robot, percepts.q, point)
+
+    def _commanded(self, memory: _Memory) -> tuple[JointTrajectory, ...]:
+        """`memory.commanded` with the motions started since: the raise to where it watches
+        from and the cycle's, in the order they started."""
+        raised = memory.view.raised
+        started = [] if raised is None else [(raised.start, RAISE, raised.motion)]
+        started += [(start, motion.name, motion) for start, motion in memory.machine.started]
+        known = {(trajectory.start, trajectory.name) for trajectory in memory.commanded}
+        new = sorted((item for item in started if item[:2] not in known), key=lambda item: item[0])
+        return memory.commanded + tuple(self._trajectory(*item) for item in new)
+
+    def _trajectory(self, start: float, name: str, motion: Motion) -> JointTrajectory:
+        """The motion at the times it was timed at, for the base and the arm (the head is the
+        gaze's), in COMMANDED_JOINTS' order."""
+        times, positions, velocities = motion.knots()
+        columns = self._rows[BODY_ROWS]
+        return JointTrajectory(name, start, times, positions[:, columns],
+                               velocities[:, columns])  # fmt: skip
 
     def _target_unseen(self, memory: _Memory) -> np.ndarray | None:
         """Where the object asked for was last seen, while the cycle waits to see it before it
@@ -266,6 +298,9 @@ class HandoverSupervisor(LeafSystem):
         memory = self._memory_of(context)
         lift = 0.0 if memory.view.raised is None else memory.view.raised.lift
         output.set_value(dataclasses.replace(memory.machine.record, watch_lift=lift))
+
+    def _calc_commanded(self, context: Context, output: AbstractValue) -> None:
+        output.set_value(self._memory_of(context).commanded)
 
     def _calc_plan_view(self, context: Context, output: AbstractValue) -> None:
         output.set_value(self._memory_of(context).machine.view)

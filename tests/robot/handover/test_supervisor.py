@@ -8,6 +8,7 @@ import pytest
 from pydrake.systems.analysis import Simulator
 
 from hsr_handover.hsr import COMMANDED_JOINTS
+from hsr_handover.interface.joint_trajectory import ARM_CONTROLLER, BASE_CONTROLLER
 from hsr_handover.robot.effectivity.arm_map import load_or_build
 from hsr_handover.robot.handover.cycle_params import CycleParams
 from hsr_handover.robot.handover.cycle_types import Failure, Phase
@@ -213,3 +214,30 @@ def test_a_request_for_an_object_out_of_view_turns_the_head_to_where_it_was_seen
     system.GetInputPort("detections").FixValue(context, DetectionResult((seen,), "ok"))
     simulator.AdvanceTo(LOOK_ROUND_S + 0.85)
     assert system.GetOutputPort("cycle").Eval(context).planning_s > 0.0
+
+
+def test_every_motion_it_starts_is_given_as_the_hsrs_controllers_take_it(supervisor):
+    """The raise to where it watches from, then the grasp's move once a request comes: the
+    base and the arm from where they stood, at rest, to where they were commanded, at the times
+    the planner timed them, on the controllers of the joints it moves."""
+    system, context, ready = supervisor
+    body = [row for row, joint in enumerate(COMMANDED_JOINTS) if not joint.startswith("head")]
+    _watched_from(system, context, _boxes(0.86))
+    (raised,) = system.GetOutputPort("commanded_trajectories").Eval(context)
+    motion = system.memory(context).view.raised
+    assert raised.name == "raise" and raised.start == motion.start
+    assert raised.times[0] == 0.0 and raised.times[-1] == pytest.approx(motion.motion.duration)
+    assert np.all(np.diff(raised.times) > 0) and len(raised.times) > 10
+    np.testing.assert_allclose(raised.positions[0], ready[body], atol=1e-6)
+    np.testing.assert_allclose(raised.positions[-1], _command(system, context)[body], atol=1e-6)
+    np.testing.assert_allclose(raised.velocities[[0, -1]], 0.0, atol=1e-6)
+    topics = [topic for topic, *_ in raised.for_controllers()]
+    assert ARM_CONTROLLER in topics and BASE_CONTROLLER not in topics  # it rises where it stands
+    system.GetInputPort("intent").FixValue(context, IntentState(target="yellow"))
+    (yellow,) = [shape for shape in _boxes(0.86) if shape.label == "yellow"]
+    seen = Detection("yellow", "yellow", (0, 0, 1, 1), (0.5, 0.5),
+                     np.array([*yellow.center, yellow.bottom + 0.05]), 40)  # fmt: skip
+    system.GetInputPort("detections").FixValue(context, DetectionResult((seen,), "ok"))
+    _watched_from(system, context, _boxes(0.86), until=context.get_time() + 1.0)
+    names = [t.name for t in system.GetOutputPort("commanded_trajectories").Eval(context)]
+    assert names == ["raise", "move"]

@@ -7,7 +7,8 @@ import dataclasses
 import numpy as np
 import pytest
 
-from hsr_handover.robot.planning.retarget import JERK_PER_ACCELERATION, retarget
+from hsr_handover.robot.planning.plan import Motion
+from hsr_handover.robot.planning.retarget import JERK_PER_ACCELERATION, KNOT_STEP_S, retarget
 from tests.robot.planning.conftest import configuration
 
 STEP = 0.01  # s between the samples the limits are checked on
@@ -126,3 +127,16 @@ def test_a_motion_that_would_overshoot_a_position_limit_is_refused(plant, limits
     velocity[flex] = 1.2
     motion = retarget(start, velocity, np.zeros_like(start), start, limits)
     assert not motion.ok and "passes the position limits of arm_flex_joint" in motion.reason
+
+
+def test_a_controller_is_sent_the_moving_start_and_the_goal_at_rest(plant, limits):
+    """Given as a joint trajectory: from the state it re-targets from, every KNOT_STEP_S, to
+    the goal at rest at its end."""
+    position, velocity = configuration(plant, START), configuration(plant, MOVING)
+    goal = configuration(plant, GOAL)
+    motion = Motion(name="follow", trajectory=retarget(position, velocity, 0 * goal, goal, limits))
+    times, positions, velocities = motion.knots()
+    assert times[0] == 0.0 and times[-1] == pytest.approx(motion.duration)
+    assert np.diff(times).max() == pytest.approx(KNOT_STEP_S)
+    np.testing.assert_allclose(positions[[0, -1]], [position, goal], atol=1e-9)
+    np.testing.assert_allclose(velocities[[0, -1]], [velocity, 0 * goal], atol=1e-9)

@@ -12,6 +12,7 @@ from pydrake.multibody.tree import PrismaticJoint, SpatialInertia
 from pydrake.trajectories import BsplineTrajectory
 from toppra.parametrizer import ParametrizeConstAccel
 
+from hsr_handover.robot.planning.plan import Motion
 from hsr_handover.robot.planning.timing import JointLimits, _DrakePath, joint_limits, time_path
 from tests.robot.planning.conftest import configuration
 
@@ -208,3 +209,20 @@ def test_a_path_that_cannot_be_timed_is_reported_not_raised(plant, limits):
     assert not short.ok and "grid points" in short.reason
     wrong = time_path(_line(np.zeros(3), np.ones(3)), limits)
     assert not wrong.ok and "rows" in wrong.reason
+
+
+def test_a_timed_path_is_given_to_a_controller_at_toppras_grid_points(plant, limits):
+    """As a joint trajectory controller is sent it: toppra's grid points, from rest at the
+    start to rest at the goal, and a held path is one point."""
+    start = configuration(plant, {"arm_lift_joint": 0.1, "torso_lift_joint": 0.05})
+    goal = start + configuration(plant, ARM_MOVE)
+    timed = time_path(_line(start, goal), limits, grid_points=40)
+    motion = Motion(name="move", trajectory=timed)
+    times, positions, velocities = motion.knots()
+    assert len(times) == 40 and times[0] == 0.0
+    assert times[-1] == pytest.approx(timed.duration) and np.all(np.diff(times) > 0)
+    np.testing.assert_allclose(positions[[0, -1]], [start, goal], atol=1e-9)
+    np.testing.assert_allclose(velocities[[0, -1]], 0.0, atol=1e-9)
+    np.testing.assert_allclose(velocities[1:-1], timed.velocities(times[1:-1]), atol=1e-9)
+    held = Motion(name="hold", trajectory=time_path(_line(start, start), limits)).knots()
+    assert held[0].tolist() == [0.0]
