@@ -110,6 +110,43 @@ def _add_openpose_parsers(commands) -> None:
     )
 
 
+def _add_bag_arguments(parser) -> None:
+    """Where a ROS bag holds what the robot perceives (the HSR's names by default)."""
+    from hsr_handover.recording import ros_topics
+
+    for option, default, what in (
+        ("--color-topic", ros_topics.COLOR_TOPIC, "colour images (Image, or CompressedImage)"),
+        ("--depth-topic", ros_topics.DEPTH_TOPIC, "registered depth (16UC1 mm or 32FC1 m)"),
+        ("--camera-info-topic", ros_topics.CAMERA_INFO_TOPIC, "the colour camera's CameraInfo"),
+        ("--joint-states-topic", ros_topics.JOINT_STATES_TOPIC, "JointState"),
+        ("--skeleton-topic", ros_topics.SKELETON_TOPIC, "keypoints (PolygonStamped)"),
+        ("--camera-frame", ros_topics.CAMERA_FRAME, "the images' optical frame in TF"),
+    ):
+        parser.add_argument(option, default=default, help=f"{what} (default {default})")
+    parser.add_argument(
+        "--base-frame", help="the fixed frame of the camera's pose (default odom, else "
+        "base_footprint when TF has no odom)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--tolerance", type=float, metavar="S",
+        help="pairing and TF tolerance (s; default half the colour's median period)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--openpose", type=Path, metavar="DIR",
+        help="OpenPose JSON frames, frame k for the bag's k-th colour image (instead of the "
+        "skeleton topic)",
+    )  # fmt: skip
+
+
+def _add_bag_parsers(commands) -> None:
+    bag = commands.add_parser("bag", help="ROS bags of an HSR session")
+    kinds = bag.add_subparsers(dest="bag", required=True)
+    check = kinds.add_parser("check", help="what a bag holds for the robot's perception")
+    check.add_argument("path", type=Path, metavar="BAG", help="a ROS 1 .bag or ROS 2 bag folder")
+    check.add_argument("--json", type=Path, help="summary to write (.json)")
+    _add_bag_arguments(check)
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = _Parser(
         prog="hsr-handover",
@@ -123,8 +160,19 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--duration", type=float, help="simulated seconds (overrides the file)")
     run.add_argument("--seed", type=int, help="random seed (overrides the file)")
     run.add_argument(
-        "--record", type=Path, metavar="DIR",
-        help="write the robot's sensors frame by frame to DIR (a new or empty directory)",
+        "--record", type=Path, metavar="PATH",
+        help="write the robot's sensors frame by frame to PATH (folder, ros2: a new or empty "
+        "directory; ros1: a new .bag file)",
+    )  # fmt: skip
+    run.add_argument(
+        "--record-format", choices=("folder", "ros2", "ros1"), default="folder",
+        help="folder (default: PNG frames, YAML, OpenPose JSON), ros2 (an MCAP bag folder) or "
+        "ros1 (a .bag file), with the HSR's topics",
+    )  # fmt: skip
+    run.add_argument(
+        "--trajectories", type=Path, metavar="FILE",
+        help="write the robot's planned motions as the HSR's trajectory controllers take them "
+        "(.json; a scenario with handover)",
     )  # fmt: skip
     validate = commands.add_parser("validate", help="check a scenario without simulating it")
     validate.add_argument("scenario", type=Path, help="scenario YAML file")
@@ -148,8 +196,13 @@ def _parser() -> argparse.ArgumentParser:
     intent = commands.add_parser(
         "intent", help="the robot's perception and intent offline, on a recorded session"
     )
-    intent.add_argument("session", type=Path, help="a folder written by run --record")
+    intent.add_argument(
+        "session", type=Path, help="a folder written by run --record, a ROS 1 .bag file or a "
+        "ROS 2 bag folder",
+    )  # fmt: skip
     intent.add_argument("--json", type=Path, help="what it recognised (.json)")
+    _add_bag_arguments(intent)
+    _add_bag_parsers(commands)
     _add_experiment_parsers(commands)
     _add_openpose_parsers(commands)
     return parser
@@ -189,9 +242,24 @@ def _output_dir(path: Path | None, option: str) -> Path | None:
     return path
 
 
+def _record_path(path: Path | None, record_format: str) -> Path | None:
+    """Check --record before anything runs: for a folder or a ROS 2 bag, a new directory in an
+    existing writable one, or an empty existing directory; for a ROS 1 bag, a new .bag file in
+    an existing writable directory (a recording is never written over another)."""
+    if path is None or record_format != "ros1":
+        return _record_dir(path)
+    if path.suffix != ".bag":
+        raise UsageError(f"--record: expected a path ending in .bag for ros1, got {str(path)!r}")
+    if path.exists():
+        raise UsageError(f"--record: expected a new .bag file, {str(path)!r} exists")
+    parent = path.parent if str(path.parent) else Path(".")
+    if not parent.is_dir() or not os.access(parent, os.W_OK):
+        raise UsageError(f"--record: expected a writable parent directory for {str(path)!r}")
+    return path
+
+
 def _record_dir(path: Path | None) -> Path | None:
-    """Check --record before anything runs: a new directory in an existing writable one, or an
-    empty existing directory (a session is never written over another)."""
+    """A new directory in an existing writable one, or an empty existing directory."""
     if path is None:
         return None
     if path.exists() and not (path.is_dir() and not any(path.iterdir())):
@@ -238,14 +306,27 @@ def _run(args: argparse.Namespace) -> int:
 
     scenario = load_scenario(args.scenario)
     _apply_overrides(scenario, args)
-    replay, record = _replay_path(args), _record_dir(args.record)
-    report = run_scenario(scenario, replay=replay, progress=_ProgressBar(), record=record)
+    replay, record = _replay_path(args), _record_path(args.record, args.record_format)
+    trajectories = _output_path(args.trajectories, "--trajectories", ".json")
+    if trajectories is not None and not scenario.handover.enabled:
+        raise UsageError(
+            f"--trajectories: expected a scenario with handover enabled, {args.scenario} plans "
+            "no motions"
+        )
+    report = run_scenario(scenario, replay=replay, progress=_ProgressBar(), record=record,
+                          record_format=args.record_format)  # fmt: skip
     print(f"sim time:    {report.sim_time:.2f} s")
     print(f"wall time:   {report.wall_time:.2f} s")
     print(f"real-time factor: {report.real_time_factor:.2f}")
     print(f"replay:      {report.replay}")
     if record is not None:
-        print(f"recorded:    {record}")
+        kind = "" if args.record_format == "folder" else f" ({args.record_format} bag)"
+        print(f"recorded:    {record}{kind}")
+    if trajectories is not None:
+        from hsr_handover.recording.trajectory_json import write_trajectories
+
+        write_trajectories(trajectories, report.commanded, str(args.scenario))
+        print(f"trajectories: {trajectories} ({len(report.commanded)} motions)")
     if report.intent is not None:
         print(f"intent:      {_recognised(report.intent.target, report.intent.recognised_time)}")
     if report.cycle is not None:
@@ -257,18 +338,59 @@ def _recognised(target: str | None, time: float) -> str:
     return f"{target} (recognised at {time:.2f} s)" if target else "nothing recognised"
 
 
+def _bag_topics(args: argparse.Namespace):
+    from hsr_handover.recording.ros_topics import BagTopics
+
+    if args.tolerance is not None and not args.tolerance > 0:
+        raise UsageError(
+            f"--tolerance: expected a positive number of seconds, got {args.tolerance}"
+        )
+    if args.openpose is not None and not args.openpose.is_dir():
+        raise UsageError(
+            f"--openpose: expected a folder of OpenPose JSON frames, {str(args.openpose)!r} "
+            "is not one"
+        )
+    return BagTopics(args.color_topic, args.depth_topic, args.camera_info_topic,
+                     args.joint_states_topic, args.skeleton_topic, args.base_frame,
+                     args.camera_frame)  # fmt: skip
+
+
+def _read_recording(args: argparse.Namespace):
+    """The folder or bag `intent` was given, read (a bag's usage errors: one line)."""
+    from hsr_handover.recording.rgbd_session import read_session
+    from hsr_handover.recording.ros_bag import is_bag
+    from hsr_handover.recording.ros_bag_session import read_bag_session
+
+    topics = _bag_topics(args)
+    if is_bag(args.session) or args.session.suffix == ".bag":
+        return read_bag_session(args.session, topics, args.tolerance, args.openpose)
+    if not args.session.is_dir():
+        raise UsageError(
+            f"{args.session}: expected a session folder written by run --record, a ROS 1 .bag "
+            "file or a ROS 2 bag folder"
+        )
+    for option in ("tolerance", "openpose", "base_frame"):
+        if getattr(args, option) is not None:
+            raise UsageError(
+                f"--{option.replace('_', '-')}: expected a bag, {args.session} is a folder"
+            )
+    return read_session(args.session)
+
+
 def _intent(args: argparse.Namespace) -> int:
-    """Run perception and intent on a recorded session; a folder that is not one, or whose
+    """Run perception and intent on a recorded session folder or bag; one that is not, or whose
     settings are broken, is a usage error."""
     from hsr_handover.experiments.reporting import write_json
-    from hsr_handover.recording.offline_intent import perceive_session
+    from hsr_handover.recording.offline_intent import perceive
     from hsr_handover.recording.rgbd_session import SessionError
 
     output = _output_path(args.json, "--json", ".json")
-    if not args.session.is_dir():
-        raise UsageError(f"{args.session}: expected a session folder written by run --record")
     try:
-        result = perceive_session(args.session)
+        session = _read_recording(args)
+        try:
+            result = perceive(session)
+        finally:
+            getattr(session, "close", lambda: None)()
     except SessionError as error:
         raise UsageError(str(error)) from None
     print(f"frames:      {result.frames} at {result.rate_hz:g} Hz")
@@ -277,6 +399,24 @@ def _intent(args: argparse.Namespace) -> int:
         print(f"frame:       {result.frame}, confidence {result.confidence:.2f}")
     if output is not None:
         write_json(result.to_dict(), output)
+        print(f"wrote {output}")
+    return 0
+
+
+def _bag(args: argparse.Namespace) -> int:
+    """`bag check`: a bag's summary; one that is not a bag is a usage error, nothing printed."""
+    from hsr_handover.experiments.reporting import write_json
+    from hsr_handover.recording.rgbd_session import SessionError
+    from hsr_handover.recording.ros_bag_check import check_bag, summary_lines
+
+    output = _output_path(args.json, "--json", ".json")
+    try:
+        survey = check_bag(args.path, _bag_topics(args), args.tolerance, args.openpose)
+    except SessionError as error:
+        raise UsageError(str(error)) from None
+    print("\n".join(summary_lines(survey)))
+    if output is not None:
+        write_json(survey.to_dict(), output)
         print(f"wrote {output}")
     return 0
 
@@ -482,7 +622,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     handlers = {
         "run": _run, "validate": _validate, "attention": _attention, "experiment": _experiment,
-        "effectivity": _effectivity, "openpose": _openpose, "intent": _intent,
+        "effectivity": _effectivity, "openpose": _openpose, "intent": _intent, "bag": _bag,
     }  # fmt: skip
     try:
         return handlers[args.command](args)

@@ -23,7 +23,11 @@ from pydrake.systems.framework import Context, Diagram, DiagramBuilder, EventSta
 
 from hsr_handover import interface
 from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY
+from hsr_handover.interface.joint_trajectory import JointTrajectory
 from hsr_handover.recording.rgbd_session import PERCEPTION_NOT_IN_SESSION, start_session
+from hsr_handover.recording.ros_bag_recorder import RosBagRecorder
+from hsr_handover.recording.ros_bag_writer import RosBagWriter
+from hsr_handover.recording.ros_messages import ROS1, ROS2
 from hsr_handover.recording.session_recorder import SessionRecorder
 from hsr_handover.replay.cycle_visualizer import CycleVisualizer
 from hsr_handover.replay.graph_visualizer import add_graph_visualizer
@@ -47,6 +51,10 @@ AFTER_CYCLE_S = 2.0  # s a run goes on once the handover cycle has ended
 CHUNK_S = 0.1
 """s simulated between checks for the cycle's end and progress reports: a run stops within
 this of AFTER_CYCLE_S (100 chunks of a 48 s trial overshot it by up to 0.48 s)."""
+FOLDER = "folder"
+RECORD_FORMATS = (FOLDER, ROS2, ROS1)
+"""How `record` is written: a session folder (`rgbd_session`), a ROS 2 MCAP bag folder or a
+ROS 1 .bag file (`ros_bag_writer`)."""
 
 
 @dataclasses.dataclass
@@ -56,6 +64,7 @@ class Simulation:
     diagram: Diagram
     station: Station
     robot: Robot
+    bag: RosBagWriter | None = None  # the bag being recorded, closed when the run ends
 
     def station_context(self, root: Context) -> Context:
         return self.station.diagram.GetMyContextFromRoot(root)
@@ -114,18 +123,32 @@ def _add_cycle_visualizer(builder: DiagramBuilder, robot: Diagram, meshcat: Mesh
 
 
 def build_simulation(
-    scenario: Scenario, meshcat: Meshcat | None = None, record: Path | None = None
+    scenario: Scenario,
+    meshcat: Meshcat | None = None,
+    record: Path | None = None,
+    record_format: str = FOLDER,
 ) -> Simulation:
     """The station and the robot for `scenario`, connected, as one Diagram; with `record`, the
-    robot's sensors are written there frame by frame as an RGB-D session."""
+    robot's sensors are written there frame by frame, as an RGB-D session folder or a ROS bag
+    (`record_format`, one of RECORD_FORMATS; a bag is complete once `Simulation.bag` is
+    closed)."""
     builder = DiagramBuilder()
     station, robot = add_station_and_robot(builder, scenario, meshcat)
-    if record is not None:
+    bag = None
+    if record is not None and record_format == FOLDER:
         _add_session_recorder(builder, station.diagram, scenario, record)
-    diagram = builder.Build()
-    diagram.set_name("hsr_handover")
-    check_abstract_connections(diagram)
-    return Simulation(diagram, station, robot)
+    elif record is not None:
+        bag = _add_bag_recorder(builder, station.diagram, robot.diagram, scenario, record,
+                                record_format)  # fmt: skip
+    try:
+        diagram = builder.Build()
+        diagram.set_name("hsr_handover")
+        check_abstract_connections(diagram)
+    except BaseException:
+        if bag is not None:
+            bag.abort()
+        raise
+    return Simulation(diagram, station, robot, bag)
 
 
 def session_settings(scenario: Scenario) -> dict:
@@ -157,6 +180,36 @@ def _add_session_recorder(
         builder.Connect(station.GetOutputPort(port.get_name()), port)
 
 
+def _add_bag_recorder(
+    builder: DiagramBuilder,
+    station: Diagram,
+    robot: Diagram,
+    scenario: Scenario,
+    path: Path,
+    version: str,
+) -> RosBagWriter:
+    """Record the robot's sensors into a ROS bag (`ros_bag_writer`) with the settings the robot
+    perceives with, and its planned motions when it plans any; the writer, for the run to
+    close."""
+    if version not in (ROS1, ROS2):
+        raise ValueError(
+            f"record_format: expected one of {', '.join(RECORD_FORMATS)}, got {version!r}"
+        )
+    writer = RosBagWriter(path, version, scenario.camera.pinhole())
+    writer.write_settings(0.0, session_settings(scenario))
+    recorder = builder.AddNamedSystem(
+        "ros_bag_recorder",
+        RosBagRecorder(writer, 1.0 / scenario.camera.rate_hz, COMMANDED_JOINTS),
+    )
+    for index in range(recorder.num_input_ports()):
+        port = recorder.get_input_port(index)
+        if port.get_name() != interface.COMMANDED_TRAJECTORIES:
+            builder.Connect(station.GetOutputPort(port.get_name()), port)
+        elif robot.HasOutputPort(port.get_name()):
+            builder.Connect(robot.GetOutputPort(port.get_name()), port)
+    return writer
+
+
 @dataclasses.dataclass
 class RunReport:
     """What a run measured: simulated and wall-clock seconds, their ratio, the replay file;
@@ -171,6 +224,7 @@ class RunReport:
     intent: IntentState | None = None  # what the robot recognised (runs with perception)
     person_holds: str = ""  # what the person's hand holds at the end (truth, for the report)
     person_repeated: float = math.nan  # when the person asked again for want of a response (s)
+    commanded: tuple[JointTrajectory, ...] = ()  # the robot's planned motions, as it started them
 
     @property
     def real_time_factor(self) -> float:
@@ -178,13 +232,21 @@ class RunReport:
 
 
 def prepare_simulation(
-    scenario: Scenario, with_meshcat: bool, record: Path | None = None
+    scenario: Scenario,
+    with_meshcat: bool,
+    record: Path | None = None,
+    record_format: str = FOLDER,
 ) -> tuple[Simulation, Meshcat | None]:
     """Build the simulation and check the world's start; returns it with its Meshcat (or
     None). With `record`, the robot's sensors are recorded there (`build_simulation`)."""
     meshcat = make_local_meshcat() if with_meshcat else None
-    simulation = build_simulation(scenario, meshcat, record)
-    check_initial_clearance(simulation.station)
+    simulation = build_simulation(scenario, meshcat, record, record_format)
+    try:
+        check_initial_clearance(simulation.station)
+    except BaseException:
+        if simulation.bag is not None:
+            simulation.bag.abort()
+        raise
     return simulation, meshcat
 
 
@@ -213,13 +275,36 @@ def run_scenario(
     monitor_factory: Callable[[Simulation], Callable[[Context], EventStatus]] | None = None,
     record: Path | None = None,
     after_cycle_s: float = AFTER_CYCLE_S,
+    record_format: str = FOLDER,
 ) -> RunReport:
     """Simulate `scenario.simulation.duration` seconds, or until `after_cycle_s` after the
     handover cycle ended; write the replay HTML when asked. `monitor_factory(simulation)`
     gives a function the simulator calls after every step (an experiment's recorder); with
-    `record`, the robot's sensors are written there as an RGB-D session
-    (`perception.rgbd_session`)."""
-    simulation, meshcat = prepare_simulation(scenario, replay is not None, record)
+    `record`, the robot's sensors are written there as an RGB-D session folder or a ROS bag
+    (`record_format`). A bag is completed when the run ends, and removed if it fails."""
+    simulation, meshcat = prepare_simulation(scenario, replay is not None, record, record_format)
+    try:
+        report = _simulate(scenario, simulation, meshcat, replay, progress, monitor_factory,
+                           after_cycle_s)  # fmt: skip
+    except BaseException:
+        if simulation.bag is not None:
+            simulation.bag.abort()
+        raise
+    if simulation.bag is not None:
+        simulation.bag.close()
+    return report
+
+
+def _simulate(
+    scenario: Scenario,
+    simulation: Simulation,
+    meshcat: Meshcat | None,
+    replay: Path | None,
+    progress: ProgressCallback | None,
+    monitor_factory: Callable[[Simulation], Callable[[Context], EventStatus]] | None,
+    after_cycle_s: float,
+) -> RunReport:
+    """Run a prepared simulation (`run_scenario`)."""
     simulator = Simulator(simulation.diagram)
     if monitor_factory is not None:
         simulator.set_monitor(monitor_factory(simulation))
@@ -245,22 +330,22 @@ def run_scenario(
     wall = time.perf_counter() - start
     written = write_replay(meshcat, replay) if meshcat is not None else None
     root = simulator.get_context()
+    commanded = _robot_output(simulation, root, interface.COMMANDED_TRAJECTORIES) or ()
     return RunReport(now, wall, written, simulation, root, _cycle(simulation, root),
-                     _intent(simulation, root), *_person(simulation, root))  # fmt: skip
+                     _robot_output(simulation, root, "intent"), *_person(simulation, root),
+                     commanded=commanded)  # fmt: skip
+
+
+def _robot_output(simulation: Simulation, root: Context, name: str) -> object | None:
+    """The robot's output `name` in the `root` context, None when the robot has none."""
+    robot = simulation.robot.diagram
+    if not robot.HasOutputPort(name):
+        return None
+    return robot.GetOutputPort(name).Eval(simulation.robot_context(root))
 
 
 def _cycle(simulation: Simulation, root: Context) -> CycleRecord | None:
-    robot = simulation.robot.diagram
-    if not robot.HasOutputPort(CYCLE):
-        return None
-    return robot.GetOutputPort(CYCLE).Eval(simulation.robot_context(root))
-
-
-def _intent(simulation: Simulation, root: Context) -> IntentState | None:
-    robot = simulation.robot.diagram
-    if not robot.HasOutputPort("intent"):
-        return None
-    return robot.GetOutputPort("intent").Eval(simulation.robot_context(root))
+    return _robot_output(simulation, root, CYCLE)
 
 
 def _cycle_ended(simulation: Simulation, root: Context, after_s: float) -> bool:

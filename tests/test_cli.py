@@ -131,3 +131,28 @@ def test_the_run_says_when_the_robot_watched_from_a_raised_torso(capsys, lift: f
     out = capsys.readouterr().out
     assert ("watched from: the torso raised, arm lift 0.42 m" in out) is said
     assert "target:      yellow (recognised at 4.0 s)" in out
+
+
+@pytest.mark.parametrize(
+    ("scenario", "trajectories", "expected"),
+    [
+        ("point_left.yaml", "motions.json",
+         "--trajectories: expected a scenario with handover enabled, {scenario} plans no motions"),
+        ("demo.yaml", "motions.csv",
+         "--trajectories: expected a path ending in .json, got {path!r}"),
+        ("demo.yaml", "folder.json",
+         "--trajectories: expected a file to write, {path!r} is a directory"),
+    ],
+)  # fmt: skip
+def test_trajectories_out_are_refused_before_anything_runs(
+    tmp_path, capsys, scenario: str, trajectories: str, expected: str
+):
+    from hsr_handover.cli import main
+
+    (tmp_path / "folder.json").mkdir()
+    path, replay = tmp_path / trajectories, tmp_path / "never.html"
+    code = main(["run", str(SCENARIOS / scenario), "--html", str(replay),
+                 "--trajectories", str(path)])  # fmt: skip
+    message = expected.format(scenario=SCENARIOS / scenario, path=str(path))
+    assert code == 2 and capsys.readouterr().err.strip() == f"error: {message}"
+    assert not replay.exists() and (path.is_dir() or not path.exists())

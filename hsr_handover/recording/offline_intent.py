@@ -1,29 +1,32 @@
-"""The robot's perception and intent estimator run offline on a recorded RGB-D session
-(`perception.rgbd_session`): no world, no simulator of one; the robot's own diagram fed by a
-SessionPlayer on the ports the station's sensors feed live, so the same session gives the same
-recognition offline as it did online.
+"""The robot's perception and intent estimator run offline on a recording: a session folder
+(`rgbd_session`) or a ROS bag (`ros_bag_session`). No world, no simulator of one; the robot's
+own diagram fed by a SessionPlayer on the ports the station's sensors feed live, so the same
+recording gives the same recognition offline as it did online.
 
-The robot perceives with the settings the session was recorded with (its `session.yaml`, read
-as a scenario file: `simulation.seed`, `camera.rate_hz`, `perception`, `intent`), else the
-defaults at the frame rate of its stamps; the camera's intrinsics come from its
-`camera_info.yaml`.
+The robot perceives with the settings the recording was made with (a folder's `session.yaml`,
+a bag's settings topic, read as a scenario file: `simulation.seed`, `camera.rate_hz`,
+`perception`, `intent`), else the defaults at the frame rate of its stamps; the camera's
+intrinsics come from the recording's camera info.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import math
+import tempfile
 from pathlib import Path
 
 import numpy as np
+import yaml
 from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import DiagramBuilder
 
-from hsr_handover.recording.rgbd_session import SESSION, RgbdSession, read_session
+from hsr_handover.recording.recorded_session import RecordedSession
+from hsr_handover.recording.rgbd_session import SESSION, SessionError, read_session
 from hsr_handover.recording.session_player import SessionPlayer
 from hsr_handover.robot.builder import build_robot
 from hsr_handover.robot.intent import IntentState
-from hsr_handover.scenario import Scenario, load_scenario
+from hsr_handover.scenario import Scenario, ScenarioError, load_scenario
 from hsr_handover.systems.port_types import check_abstract_connections
 
 
@@ -44,11 +47,24 @@ class OfflineIntent:
         return dataclasses.asdict(self)
 
 
-def _robot_scenario(session: RgbdSession) -> Scenario:
+def _settings_scenario(session: RecordedSession) -> Scenario:
+    """The session's settings read as a scenario file is, with its checks (SessionError naming
+    where the settings came from)."""
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / SESSION
+        path.write_text(yaml.safe_dump(session.settings, sort_keys=False))
+        try:
+            return load_scenario(path)
+        except ScenarioError as error:
+            raise SessionError(
+                f"{session.settings_source}: {error.key_path}: {error.expected}"
+            ) from None
+
+
+def _robot_scenario(session: RecordedSession) -> Scenario:
     """The scenario the robot is built from: the session's settings, its camera's intrinsics."""
-    settings = session.directory / SESSION
-    scenario = load_scenario(settings) if settings.is_file() else Scenario()
-    if not settings.is_file() and len(session.stamps) > 1:
+    scenario = _settings_scenario(session) if session.settings else Scenario()
+    if not session.settings and len(session.stamps) > 1:
         scenario.camera.rate_hz = float(1.0 / np.median(np.diff(session.stamps)))
     camera = session.camera
     scenario.camera.width, scenario.camera.height = camera.width, camera.height
@@ -60,9 +76,14 @@ def _robot_scenario(session: RgbdSession) -> Scenario:
 
 
 def perceive_session(directory: Path) -> OfflineIntent:
-    """Run the robot's perception and intent estimator over a recorded session; what it
-    recognised. Raises SessionError or ScenarioError (ValueErrors) naming the file at fault."""
-    session = read_session(Path(directory))
+    """Run the robot's perception and intent estimator over a session folder; what it
+    recognised. Raises SessionError naming the file at fault."""
+    return perceive(read_session(Path(directory)))
+
+
+def perceive(session: RecordedSession) -> OfflineIntent:
+    """Run the robot's perception and intent estimator over a recording read (a session folder
+    or a bag); what it recognised. Raises SessionError naming the file at fault."""
     scenario = _robot_scenario(session)
     robot = build_robot(scenario).diagram
     start = session.stamps[0]

@@ -140,6 +140,11 @@ class RgbdSession:
     keypoints: tuple[Detection, ...]
     settings: dict
 
+    @property
+    def settings_source(self) -> str:
+        """Where the settings are read from, for messages."""
+        return str(self.directory / SESSION)
+
     def frame(self, k: int) -> SessionFrame:
         name = _name(self.indices[k])
         folder = self.directory
@@ -250,16 +255,24 @@ def read_session(directory: Path) -> RgbdSession:
 def _read_settings(path: Path) -> dict:
     """session.yaml, holding only what SESSION_SECTIONS allows (SessionError naming the key)."""
     settings = _load_yaml(_inside(path.parent, path))
+    check_settings(settings, str(path))
+    return settings
+
+
+def check_settings(settings: dict, where: str) -> None:
+    """Raise SessionError "<where>: <key>: expected ..." unless `settings` holds only the robot's
+    own settings (SESSION_SECTIONS, without PERCEPTION_NOT_IN_SESSION)."""
     for section, values in settings.items():
         if section not in SESSION_SECTIONS:
             allowed = ", ".join(SESSION_SECTIONS)
-            raise SessionError(f"{path}: {section}: expected only the robot's settings ({allowed})")
+            raise SessionError(
+                f"{where}: {section}: expected only the robot's settings ({allowed})"
+            )
         keys = SESSION_SECTIONS[section]
         if not isinstance(values, dict):
-            raise SessionError(f"{path}: {section}: expected a mapping")
+            raise SessionError(f"{where}: {section}: expected a mapping")
         refused = [key for key in values if (keys is not None and key not in keys)
                    or (section == "perception" and key in PERCEPTION_NOT_IN_SESSION)]  # fmt: skip
         if refused:
             why = "it is the world's, or names a file outside the session"
-            raise SessionError(f"{path}: {section}.{refused[0]}: expected none here ({why})")
-    return settings
+            raise SessionError(f"{where}: {section}.{refused[0]}: expected none here ({why})")

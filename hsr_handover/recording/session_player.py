@@ -1,6 +1,6 @@
-"""SessionPlayer: a recorded RGB-D session (`perception.rgbd_session`) played back on the ports
-the station's sensors would feed the robot, so its perception runs on a recording as it runs
-live."""
+"""SessionPlayer: a recording (`recorded_session`: a session folder or a ROS bag) played back
+on the ports the station's sensors would feed the robot, so its perception runs on a recording
+as it runs live."""
 
 from __future__ import annotations
 
@@ -19,7 +19,8 @@ from hsr_handover.interface import (
     SKELETON_KEYPOINTS,
 )
 from hsr_handover.interface.keypoints import Detection
-from hsr_handover.recording.rgbd_session import RgbdSession, SessionFrame
+from hsr_handover.recording.recorded_session import RecordedSession
+from hsr_handover.recording.rgbd_session import SessionFrame
 
 BEFORE_FIRST = "before the recording's first frame"
 
@@ -30,7 +31,7 @@ class SessionPlayer(LeafSystem):
     `session` from its stamp until the next one's (the last frame holds to the end), with the
     stamps shifted by `-start` s so a recording may begin at any time."""
 
-    def __init__(self, session: RgbdSession, start: float = 0.0):
+    def __init__(self, session: RecordedSession, start: float = 0.0):
         super().__init__()
         self._session, self._start = session, float(start)
         self._loaded: tuple[int, SessionFrame] | None = None

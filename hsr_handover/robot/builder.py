@@ -33,7 +33,8 @@ from hsr_handover.robot.systems.watching import WATCHING
 from hsr_handover.robot.systems.watching_posture import WatchingPosture
 from hsr_handover.scenario import Scenario, robot_start_positions
 
-HANDOVER_OUTPUTS = ("cycle", "plan_view", WATCHING)  # the supervisor's, with handover on
+HANDOVER_OUTPUTS = ("cycle", "plan_view", WATCHING, interface.COMMANDED_TRAJECTORIES)
+"""The supervisor's outputs the robot gives beside its commands, with handover on."""
 GAZE_OUTPUTS = ("gaze",)  # the GazeController's, exported with perception.active_gaze
 WATCH_OUTPUTS = ("watch_lift",)  # the watch-only robot's WatchingPosture's, with active gaze
 WATCH_ONLY = ("point_cloud_gng", "intent_estimator")

@@ -4,10 +4,15 @@ the handover experiment's truth scorer watches it and judges it a clean handover
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
+import pytest
 
 from hsr_handover.experiments.handover.trial import judge
 from hsr_handover.experiments.handover.trials import HandoverTrial
+from hsr_handover.interface.joint_trajectory import ARM_CONTROLLER
+from hsr_handover.recording.trajectory_json import trajectories_json
 from hsr_handover.robot.handover.cycle_types import Phase
 from hsr_handover.simulation import AFTER_CYCLE_S, CHUNK_S
 from hsr_handover.world.person.receiving import DRAW_IN_S, TUG_S
@@ -58,3 +63,25 @@ def test_the_truth_judges_it_a_clean_handover(demo):
     row = judge(trial, report.cycle, score, report.person_holds, names)
     assert row["handed_over"] and row["retrieved"] and row["failure"] == "", row
     assert 0 < row["recognition_s"] < 3 and 10 < row["execution_s"] < 25
+
+
+def test_its_planned_motions_come_out_as_the_hsrs_controllers_take_them(demo):
+    """Every motion the robot started, in order, each when its phase began, as `run
+    --trajectories` writes them: the arm's and the base's controllers with the HSR's names."""
+    _, report, _, _ = demo
+    commanded, phases = report.commanded, report.cycle.phase_times
+    names = [trajectory.name for trajectory in commanded]
+    assert names[names.index("move") :][:4] == ["move", "approach", "lift", "carry"]
+    starts = [trajectory.start for trajectory in commanded]
+    assert starts == sorted(starts)
+    by_name = {trajectory.name: trajectory for trajectory in commanded}
+    assert by_name["approach"].start == pytest.approx(phases["approach"], abs=0.2)
+    assert by_name["carry"].start == pytest.approx(phases["carry"], abs=0.2)
+    written = json.loads(json.dumps(trajectories_json(commanded, "demo.yaml")))
+    carry = written["motions"][names.index("carry")]
+    topics = {controller["topic"]: controller for controller in carry["controllers"]}
+    assert ARM_CONTROLLER in topics
+    arm = topics[ARM_CONTROLLER]
+    assert arm["joint_names"][0] == "arm_lift_joint"
+    assert arm["time_from_start_s"][-1] == pytest.approx(by_name["carry"].times[-1])
+    np.testing.assert_allclose(arm["velocities"][0], 0.0, atol=1e-6)  # from rest
