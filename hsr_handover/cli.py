@@ -289,7 +289,7 @@ def _apply_overrides(scenario, args: argparse.Namespace) -> None:
         scenario.simulation.seed = args.seed
 
 
-class _ProgressBar(ProgressBar):
+class SimulatedTimeBar(ProgressBar):
     """A bar over simulated time, `progress(now, total)`."""
 
     def __call__(self, now: float, total: float) -> None:
@@ -313,7 +313,7 @@ def _run(args: argparse.Namespace) -> int:
             f"--trajectories: expected a scenario with handover enabled, {args.scenario} plans "
             "no motions"
         )
-    report = run_scenario(scenario, replay=replay, progress=_ProgressBar(), record=record,
+    report = run_scenario(scenario, replay=replay, progress=SimulatedTimeBar(), record=record,
                           record_format=args.record_format)  # fmt: skip
     print(f"sim time:    {report.sim_time:.2f} s")
     print(f"wall time:   {report.wall_time:.2f} s")
@@ -330,7 +330,7 @@ def _run(args: argparse.Namespace) -> int:
     if report.intent is not None:
         print(f"intent:      {_recognised(report.intent.target, report.intent.recognised_time)}")
     if report.cycle is not None:
-        _print_cycle(report.cycle, report.person_holds)
+        print_cycle(report.cycle, report.person_holds)
     return 0
 
 
@@ -421,7 +421,7 @@ def _bag(args: argparse.Namespace) -> int:
     return 0
 
 
-def _print_cycle(cycle, person_holds: str) -> None:
+def print_cycle(cycle, person_holds: str) -> None:
     """What the robot did: the outcome, the target and when each phase began."""
     outcome = cycle.phase.value
     if cycle.failure is not None:
@@ -472,7 +472,7 @@ def _attention(args: argparse.Namespace) -> int:
         "json": _output_path(args.json, "--json", ".json"),
     }
     replay = _output_path(args.html, "--html", ".html")
-    result, report = run_attention(scenario, replay=replay, progress=_ProgressBar())
+    result, report = run_attention(scenario, replay=replay, progress=SimulatedTimeBar())
     writers = {"plot": plot, "csv": write_csv, "json": write_json}
     for name, path in outputs.items():
         if path is not None:

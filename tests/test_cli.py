@@ -11,7 +11,7 @@ import sys
 
 import pytest
 
-from hsr_handover.cli import _print_cycle, _ProgressBar
+from hsr_handover.cli import SimulatedTimeBar, print_cycle
 from hsr_handover.experiments.reporting import format_value
 from hsr_handover.robot.handover.cycle_types import CycleRecord, Phase
 from tests.meshcat_html import meshcat_commands
@@ -64,7 +64,7 @@ class _Terminal(io.StringIO):
 def test_progress_bar_ends_full_when_the_runner_stops_short(monkeypatch, terminal: bool) -> None:
     stderr = _Terminal() if terminal else io.StringIO()
     monkeypatch.setattr(sys, "stderr", stderr)
-    bar = _ProgressBar()
+    bar = SimulatedTimeBar()
     now, duration = 0.0, 9.0
     while now < duration - 1e-12:  # the runner's loop: it stops at 8.99999999999999 s
         now = min(now + 0.09, duration)
@@ -127,7 +127,7 @@ def test_overrides_are_held_to_the_files_ranges(tmp_path, capsys, option, value,
 @pytest.mark.parametrize(("lift", "said"), [(0.0, False), (0.42, True)])
 def test_the_run_says_when_the_robot_watched_from_a_raised_torso(capsys, lift: float, said: bool):
     cycle = CycleRecord(Phase.DONE, target="yellow", recognised_time=4.0, watch_lift=lift)
-    _print_cycle(cycle, "yellow_box")
+    print_cycle(cycle, "yellow_box")
     out = capsys.readouterr().out
     assert ("watched from: the torso raised, arm lift 0.42 m" in out) is said
     assert "target:      yellow (recognised at 4.0 s)" in out

@@ -5,17 +5,18 @@ hand, release when the person holds the object, retreat. Failures end it with a 
 It decides from percepts only (`Percepts`: the joint sensors, the gripper's measured opening,
 the intent estimator's target, the object as the camera sees it, the person's hand from the
 skeleton) by the thresholds of `CycleParams`, and asks a `CyclePlanner` for motions. Each
-phase has one handler (`HandoverCycle._HANDLERS`); presenting, `take.TakeDetector` feels the
-object taken and `hand_follower.HandFollower` brings it to the person's hand. A person who asks
-for another object while the robot lifts or carries one (the intent estimator's correction)
-has that object put back where it stood and the other fetched, once (`put_back`). It knows
-nothing of Drake systems: the `HandoverSupervisor` steps it and follows the motion it gives.
+phase has one handler (`HandoverCycle._HANDLERS`): those up to the carry and the retreat here,
+presenting and releasing in `presenting` (where `take.TakeDetector` feels the object taken and
+`hand_follower.HandFollower` brings it to the person's hand), and putting back in `put_back`: a
+person who asks for another object while the robot lifts or carries one (the intent
+estimator's correction) has that object put back where it stood and the other fetched, once.
+It knows nothing of Drake systems: the `HandoverSupervisor` steps it and follows the motion it
+gives.
 """
 
 from __future__ import annotations
 
 import copy
-import dataclasses
 import math
 from collections.abc import Callable
 from typing import ClassVar
@@ -27,34 +28,20 @@ from hsr_handover.robot.handover.cycle_types import (
     CyclePlanner,
     CycleRecord,
     Failure,
+    Fetch,
     Percepts,
     Phase,
 )
-from hsr_handover.robot.handover.hand_follower import FollowStep, HandFollower
+from hsr_handover.robot.handover.hand_follower import HandFollower
 from hsr_handover.robot.handover.motion_queue import MotionQueue
-from hsr_handover.robot.handover.put_back import PutBack, PutBackStep
-from hsr_handover.robot.handover.take import Emptied, TakeDetector
+from hsr_handover.robot.handover.presenting import Presenting
+from hsr_handover.robot.handover.put_back import PutBack, PuttingBack
+from hsr_handover.robot.handover.take import TakeDetector
 from hsr_handover.robot.planning.plan import Motion, Plan
 from hsr_handover.robot.planning.plan_view import PlanView
 
 
-@dataclasses.dataclass
-class _Fetch:
-    """What the robot knows of the object it fetches now: the grasp's `held` (the object as
-    the hand holds it, for later plans) and `lift` (played once the fingers hold it), the
-    opening they closed on it (`width`, m), where the camera saw it stand (`start`, m, world),
-    when the robot turned to the person with it lifted (`turned`, s) and until when it looks
-    for it before planning its grasp unseen (`seek_until`, s)."""
-
-    held: object = None
-    lift: Motion | None = None
-    width: float = math.inf
-    start: np.ndarray | None = None
-    turned: float | None = None
-    seek_until: float | None = None
-
-
-class HandoverCycle:
+class HandoverCycle(PuttingBack, Presenting):
     """Steps the cycle on percepts; `command(time)` gives what the robot should do then.
 
     It asks `planner` for its motions: whoever steps it may give it a planner for newer
@@ -73,7 +60,7 @@ class HandoverCycle:
         self.view = PlanView()  # what the plans so far show in the replay
         self._motions = MotionQueue()
         self._gripper = params.open
-        self._fetch = _Fetch()
+        self._fetch = Fetch()
         self._person: np.ndarray | None = None  # the point on the person last seen
         self._since = 0.0  # when the current phase began
         self._blocked: float | None = None  # when the plan now wanted first found no way
@@ -228,155 +215,6 @@ class HandoverCycle:
         if not self._moving(p.time):
             self._start_presenting(p)
 
-    # Putting back -----------------------------------------------------------------------------
-
-    def _corrected(self, p: Percepts) -> bool:
-        """Whether the person has asked for another object than the one lifted (heeded once
-        per cycle): the robot stands still, puts the object back and then fetches that one."""
-        asked = p.correction
-        if asked is None or asked == self.record.target or self.record.first_target is not None:
-            return False
-        self.record.first_target, self.record.corrected_time = self.record.target, p.time
-        self._putting = PutBack(asked, self._motions.played_so_far("carry", p.time), p.time)
-        self._hold_still(p)
-        self._enter(Phase.PUT_BACK, p.time)
-        return True
-
-    def _put_back(self, p: Percepts) -> None:
-        """Back over the object's place and down (`planner.put_back`), open, back off it and
-        fetch the object the person asked for: each `PutBackStep` once the last one's motions
-        are over."""
-        holding = self._putting.step.holding
-        if (holding and self._dropped(p)) or self._moving(p.time):
-            return
-        self._PUT_BACK_STEPS[self._putting.step](self, p)
-
-    def _plan_way_back(self, p: Percepts) -> None:
-        if p.time < self._retry_at:
-            return
-        lift = self._fetch.lift
-        lifted = lift.state(lift.duration)[0]
-        put_back = self.planner.put_back(p.q, self._fetch.held, lifted, self._putting.came)
-        planned = self._plan(put_back, p, holding=True)
-        if planned is not None:
-            self._motions.play(planned.motions)
-            self._putting = self._putting.advanced(p.time)
-
-    def _put_down(self, p: Percepts) -> None:
-        """Back on its place: the fingers open."""
-        self._gripper = self._params.open
-        self._putting = self._putting.advanced(p.time)
-
-    def _leave_once_open(self, p: Percepts) -> None:
-        """The object is back where it stood and let go of: the hand backs straight off it
-        (the next grasp is planned from there, not from the arm stowed), or, with no way
-        straight back, the robot retreats; then it fetches the next object."""
-        if p.time - self._putting.since < self._params.settle_s:
-            return
-        planned = self.planner.back_off(p.q, self._fetch.held)
-        self.record.planning_s += planned.plan_seconds
-        if planned.ok:
-            self._motions.play(planned.motions)
-            self._putting = self._putting.advanced(p.time)
-            return
-        self._retreat_then(p, Phase.WATCH, None, "", holding=False)
-        self._fetch_next()
-
-    def _left(self, p: Percepts) -> None:
-        self._fetch_next(p.time)
-
-    def _fetch_next(self, watch_from: float | None = None) -> None:
-        """Asked for the next object: watch (`_watch` plans its grasp), at once from
-        `watch_from` (s), else once the retreat under way is over."""
-        self.record.target, self._putting = self._putting.next_target, None
-        self._fetch = _Fetch()
-        if watch_from is not None:
-            self._enter(Phase.WATCH, watch_from)
-
-    # Presenting -------------------------------------------------------------------------------
-
-    def _start_presenting(self, p: Percepts) -> None:
-        self._enter(Phase.PRESENT, p.time)
-        self._seen_at = p.time
-        self._take = TakeDetector(p.wrist_force, self._fetch.width, self._params)
-        self._follower = HandFollower(self._params)
-
-    def _present(self, p: Percepts) -> None:
-        """Hold the object out and let go once the person holds it (`take`), bringing it to a
-        hand held out (`hand_follower`), or give up."""
-        if any(point is not None for point in (p.person, p.face, p.hand)):
-            self._seen_at = p.time
-        felt = self._take.feel(p, self._person)
-        if felt.held:
-            if not self._moving(p.time):
-                self._let_go(p)
-                return
-            self._hold_still(p)  # held on the way to the hand: feel again standing still
-        if felt.taken:
-            self._let_go(p)  # the person has it, drawn out of the fingers or through them
-            return
-        if p.opening < self._params.held_opening:
-            self._empty_fingers(p)
-            return
-        if self._given_up(p):
-            return
-        # A hand near the object is not yet holding it (a hand held out, a person who changes
-        # their mind): the robot lets go only when it feels the object taken, above.
-        if p.hand is not None and p.palm is not None:
-            self._follow_hand(p)
-
-    def _given_up(self, p: Percepts) -> bool:
-        """Whether the robot gives up presenting: no hand came in `wait_s`, or the person has
-        been out of sight for `lost_s` (it keeps the object)."""
-        params = self._params
-        if p.time - self._since > params.wait_s:
-            reason = f"no hand came for the object in {params.wait_s:.0f} s; holding it"
-            self._fail_and_retreat(p, Failure.TIMEOUT, reason, holding=True)
-            return True
-        if p.time - self._seen_at > params.lost_s:
-            reason = f"the person was out of sight for {params.lost_s:.0f} s; holding the object"
-            self._fail_and_retreat(p, Failure.PERSON_WITHDREW, reason, holding=True)
-            return True
-        return False
-
-    def _empty_fingers(self, p: Percepts) -> None:
-        emptied = self._take.emptied(p, self._fetch.start)
-        if emptied is Emptied.JUST_NOW:
-            self._hold_still(p)
-        elif emptied is Emptied.TAKEN:
-            self._let_go(p)
-        elif emptied is Emptied.DROPPED:
-            self._dropped(p)
-
-    def _follow_hand(self, p: Percepts) -> None:
-        step = self._follower.step(p, following=self._motions.running_name == "follow")
-        if step is FollowStep.STOP:
-            self._hold_still(p)  # the person reaches for it: hold it where it is
-        elif step is FollowStep.FOLLOW and not self._moving(p.time):
-            self._follow(p)
-
-    def _follow(self, p: Percepts) -> None:
-        """Re-target state to state (ruckig) to hold the object out at the hand."""
-        aim = self._follower.aim(p)
-        planned = self.planner.follow(p.q, np.zeros_like(p.q), aim, self._fetch.held)
-        self.record.planning_s += planned.plan_seconds
-        if planned.ok:
-            self._motions.play(planned.motions)
-            self.view = self.view.updated(planned.view)
-            self._moving(p.time)
-
-    def _let_go(self, p: Percepts) -> None:
-        self._gripper = min(self._params.open, p.opening + self._params.let_go)
-        self._hold_still(p)
-        self._enter(Phase.RELEASE, p.time)
-
-    def _release(self, p: Percepts) -> None:
-        settle_s = self._params.settle_s
-        opened = p.opening >= self._gripper - self._params.held_opening
-        if p.time - self._since < settle_s or not (opened or p.time - self._since > 3 * settle_s):
-            return
-        self._retreat_then(p, Phase.DONE, None, "", holding=False)
-
     def _retreat(self, p: Percepts) -> None:
         if self._moving(p.time):
             return
@@ -456,10 +294,7 @@ class HandoverCycle:
 
     _HANDLERS: ClassVar[dict[Phase, Callable[[HandoverCycle, Percepts], None]]] = {
         Phase.WATCH: _watch, Phase.APPROACH: _approach, Phase.GRASP: _grasp, Phase.LIFT: _lift,
-        Phase.CARRY: _carry, Phase.PUT_BACK: _put_back, Phase.PRESENT: _present,
-        Phase.RELEASE: _release, Phase.RETREAT: _retreat,
-    }  # fmt: skip
-    _PUT_BACK_STEPS: ClassVar[dict[PutBackStep, Callable[[HandoverCycle, Percepts], None]]] = {
-        PutBackStep.PLAN: _plan_way_back, PutBackStep.LOWER: _put_down,
-        PutBackStep.OPEN: _leave_once_open, PutBackStep.LEAVE: _left,
+        Phase.CARRY: _carry, Phase.PUT_BACK: PuttingBack._put_back,
+        Phase.PRESENT: Presenting._present, Phase.RELEASE: Presenting._release,
+        Phase.RETREAT: _retreat,
     }  # fmt: skip

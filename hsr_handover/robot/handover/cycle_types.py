@@ -11,7 +11,7 @@ from typing import Protocol
 
 import numpy as np
 
-from hsr_handover.robot.planning.plan import Plan
+from hsr_handover.robot.planning.plan import Motion, Plan
 
 
 class Phase(enum.Enum):
@@ -99,6 +99,22 @@ class CyclePlanner(Protocol):
     def back_off(self, q: np.ndarray, let_go: object) -> Plan:
         """The hand straight back from the object just let go of (no motion when it is clear
         of it already)."""
+
+
+@dataclasses.dataclass
+class Fetch:
+    """What the robot knows of the object it fetches now: the grasp's `held` (the object as
+    the hand holds it, for later plans) and `lift` (played once the fingers hold it), the
+    opening they closed on it (`width`, m), where the camera saw it stand (`start`, m, world),
+    when the robot turned to the person with it lifted (`turned`, s) and until when it looks
+    for it before planning its grasp unseen (`seek_until`, s)."""
+
+    held: object = None
+    lift: Motion | None = None
+    width: float = math.inf
+    start: np.ndarray | None = None
+    turned: float | None = None
+    seek_until: float | None = None
 
 
 @dataclasses.dataclass
