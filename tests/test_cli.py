@@ -11,9 +11,9 @@ import sys
 
 import pytest
 
-from hsr_handover.cli import SimulatedTimeBar, print_cycle
+from hsr_handover.cli import SimulatedTimeBar, cycle_outcome, print_cycle
 from hsr_handover.experiments.reporting import format_value
-from hsr_handover.robot.handover.cycle_types import CycleRecord, Phase
+from hsr_handover.robot.handover.cycle_types import CycleRecord, Failure, Phase
 from tests.meshcat_html import meshcat_commands
 from tests.paths import SCENARIOS
 
@@ -131,6 +131,25 @@ def test_the_run_says_when_the_robot_watched_from_a_raised_torso(capsys, lift: f
     out = capsys.readouterr().out
     assert ("watched from: the torso raised, arm lift 0.42 m" in out) is said
     assert "target:      yellow (recognised at 4.0 s)" in out
+
+
+@pytest.mark.parametrize(
+    ("cycle", "outcome"),
+    [
+        (CycleRecord(Phase.DONE, target="yellow"), "done"),
+        (CycleRecord(Phase.WATCH), "not recognised"),
+        (CycleRecord(Phase.FAILED, Failure.UNREACHABLE, "no base pose", target="red"),
+         "failed, unreachable: no base pose"),
+        (CycleRecord(Phase.RETREAT, Failure.DROPPED, "it slipped", target="red"),
+         "failed, dropped: it slipped"),
+        (CycleRecord(Phase.CARRY, target="red"), "timeout: carry when the run ended"),
+        (CycleRecord(Phase.WATCH, target="red"), "timeout: watch when the run ended"),
+    ],
+)  # fmt: skip
+def test_a_run_ends_in_one_of_the_documented_outcomes(cycle: CycleRecord, outcome: str):
+    """Never a bare phase name: a run in which nothing was recognised says so, and one cut
+    short by its duration says where the cycle was."""
+    assert cycle_outcome(cycle) == outcome
 
 
 @pytest.mark.parametrize(

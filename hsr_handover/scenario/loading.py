@@ -43,16 +43,22 @@ def load_scenario(filename: str | Path) -> Scenario:
 
 
 def _yaml_error(name: str, text: str, error: yaml.YAMLError) -> ScenarioError:
-    """The line and the problem PyYAML found (a ReaderError has a position instead of a mark)."""
+    """The line, the column and the problem PyYAML found (a ReaderError has a position instead
+    of a mark)."""
     mark = getattr(error, "problem_mark", None)
     position = getattr(error, "position", None)
     if mark is not None:
-        where = f"line {mark.line + 1}"
+        where = f"line {mark.line + 1}, column {mark.column + 1}"
     elif position is not None:
-        where = f"line {text.count(chr(10), 0, position) + 1}"
+        line_start = text.rfind("\n", 0, position) + 1
+        where = f"line {text.count(chr(10), 0, position) + 1}, column {position - line_start + 1}"
     else:
         where = "(file)"
     problem = getattr(error, "problem", None) or getattr(error, "reason", None)
+    context, begun = getattr(error, "context", None), getattr(error, "context_mark", None)
+    elsewhere = begun is not None and (mark is None or begun.index != mark.index)
+    if problem and context and elsewhere:  # an unclosed quote, say: where it was opened
+        problem += f", {context} begun at line {begun.line + 1}, column {begun.column + 1}"
     return ScenarioError(
         name, where, f"expected valid YAML ({problem})" if problem else "expected valid YAML"
     )

@@ -340,13 +340,34 @@ RAW_BROKEN = {
     ),
     "control character": (
         _replace(DURATION_LINE, "  duration: 5\x00\n"),
-        "line 6",
+        "line 6, column 14",
         "expected valid YAML (control characters are not allowed)",
     ),
     "a tab after a key's colon": (
         _replace(DURATION_LINE, "  duration:\t5.0\n"),
-        "line 6",
+        "line 6, column 12",
         "expected valid YAML (found character '\\t' that cannot start any token)",
+    ),
+    "a tab indenting a key": (
+        _replace(DURATION_LINE, "\tduration: 5.0\n"),
+        "line 6, column 1",
+        "expected valid YAML (found character that cannot start any token)",
+    ),
+    "a stray character": (
+        _replace(DURATION_LINE, "  duration: `5.0\n"),
+        "line 6, column 13",
+        "expected valid YAML (found character that cannot start any token)",
+    ),
+    "an unclosed quote": (
+        _replace(DURATION_LINE, '  duration: "5.0\n'),
+        f"line {POINT_LEFT.count(chr(10)) + 1}, column 1",
+        "(found unexpected end of stream, while scanning a quoted scalar begun at line 6, "
+        "column 13)",
+    ),
+    "an unclosed flow sequence": (
+        _replace("center: [0.85, 0.0]", "center: [0.85, 0.0"),
+        "line 11, column 7",
+        "while parsing a flow sequence begun at line 10, column 11",
     ),
     "empty file": (b"", "(file)", "expected a mapping of scenario sections"),
     "comment-only file": (b"# to do\n", "(file)", "expected a mapping of scenario sections"),

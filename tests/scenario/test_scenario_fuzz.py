@@ -97,7 +97,7 @@ def mutated_scenarios(draw) -> tuple[bytes, str | None]:
     leaves = list(_leaves(data))
     path = draw(st.sampled_from(leaves))
     parent, last = _parent(data, path), path[-1]
-    kinds = ["out of range", "value", "random value", "delete", "unknown", "bytes"]
+    kinds = ["out of range", "value", "random value", "delete", "unknown", "bytes", "tab"]
     kinds.append("duplicate key" if isinstance(parent, dict) else "copy item")
     if isinstance(parent[last], int | float) and not isinstance(parent[last], bool):
         kinds += ["scale"] * 3  # small changes: the most likely to be accepted, then simulated
@@ -127,9 +127,15 @@ def mutated_scenarios(draw) -> tuple[bytes, str | None]:
     text = yaml.safe_dump(data, sort_keys=False, default_flow_style=draw(st.booleans()))
     text = text.replace(f"{MARKER}: 0", raw).replace(MARKER, raw)
     encoded = text.encode()
-    if kind == "bytes":
+    if kind == "bytes":  # the file cut short, and a stray byte, tab or quote from there on
         at = draw(st.integers(0, len(encoded)))
-        encoded = encoded[:at] + draw(st.sampled_from([b"\xff", b"\x00", b"", b"\n  ]{"]))
+        stray = draw(st.sampled_from([b"\xff", b"\x00", b"", b"\n  ]{", b"\t", b'"', b"'"]))
+        encoded = encoded[:at] + stray + draw(st.sampled_from([b"", encoded[at:]]))
+    elif kind == "tab":  # an editor's slip: a tab after one key's colon, or before a key
+        spots = [i for i in range(len(encoded)) if encoded[i : i + 2] in (b": ", b"\n ")]
+        if spots:
+            at = draw(st.sampled_from(spots))
+            encoded = encoded[: at + 1] + b"\t" + encoded[at + 2 :]
     return encoded, named
 
 
