@@ -8,12 +8,14 @@ simulation prints one line and exits 1. No tracebacks: `--debug` shows them.
 from __future__ import annotations
 
 import argparse
+import functools
 import os
 import sys
 from collections.abc import Sequence
 from pathlib import Path
 
 from hsr_handover.experiments.reporting import FIGURE_SUFFIXES
+from hsr_handover.output_files import write_together
 from hsr_handover.progress import ProgressBar
 
 EXIT_USAGE = 2
@@ -325,7 +327,8 @@ def _run(args: argparse.Namespace) -> int:
     if trajectories is not None:
         from hsr_handover.recording.trajectory_json import write_trajectories
 
-        write_trajectories(trajectories, report.commanded, str(args.scenario))
+        write_together({trajectories: lambda path: write_trajectories(
+            path, report.commanded, str(args.scenario))})  # fmt: skip
         print(f"trajectories: {trajectories} ({len(report.commanded)} motions)")
     if report.intent is not None:
         print(f"intent:      {_recognised(report.intent.target, report.intent.recognised_time)}")
@@ -483,9 +486,8 @@ def _attention(args: argparse.Namespace) -> int:
     replay = _output_path(args.html, "--html", ".html")
     result, report = run_attention(scenario, replay=replay, progress=SimulatedTimeBar())
     writers = {"plot": plot, "csv": write_csv, "json": write_json}
-    for name, path in outputs.items():
-        if path is not None:
-            writers[name](result, path)
+    write_together({path: functools.partial(writers[name], result)
+                    for name, path in outputs.items() if path is not None})  # fmt: skip
     print("\n".join(summary_lines(result)))  # n/a where the JSON has null
     print(f"wall time {report.wall_time:.1f} s, real-time factor {report.real_time_factor:.2f}")
     for path in (*outputs.values(), replay):
@@ -504,9 +506,9 @@ def _effectivity(args: argparse.Namespace) -> int:
                "json": _output_path(args.json, "--json", ".json"),
                "html": _output_path(args.html, "--html", ".html")}  # fmt: skip
     result = run_effectivity(scenario, replay=outputs["html"])
-    for name, write in (("plot", plot), ("json", write_json)):
-        if outputs[name] is not None:
-            write(result, outputs[name])
+    writers = {"plot": plot, "json": write_json}
+    write_together({outputs[name]: functools.partial(write, result)
+                    for name, write in writers.items() if outputs[name] is not None})  # fmt: skip
     print("\n".join(summary_lines(result)))
     print(f"wall time {result.wall_s:.1f} s")
     for path in outputs.values():
@@ -559,9 +561,9 @@ def _experiment(args: argparse.Namespace) -> int:
         "json": lambda path: write_json(summary, path),
         "plot": lambda path: report.plot(summary, path),
     }
-    for name, path in outputs.items():
+    write_together({path: writers[name] for name, path in outputs.items() if path is not None})
+    for path in outputs.values():
         if path is not None:
-            writers[name](path)
             print(f"wrote {path}")
     if report_dir is not None:
         print(f"wrote {_write_report(report_dir, report, summary, experiment.rows(), html_dir)}")
