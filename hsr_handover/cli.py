@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import functools
+import math
 import os
 import sys
 from collections.abc import Sequence
@@ -604,6 +605,8 @@ def _openpose(args: argparse.Namespace) -> int:
     from hsr_handover.recording.openpose_check import check_openpose, summary_lines
 
     output = _output_path(args.json, "--json", ".json")
+    if args.near is not None and not all(math.isfinite(value) for value in args.near):
+        raise UsageError(f"--near: expected a finite pixel U V, got {args.near[0]} {args.near[1]}")
     options = {
         "model": args.model,
         "keypoint_scale": args.keypoint_scale,

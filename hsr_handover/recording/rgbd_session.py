@@ -168,8 +168,19 @@ def _inside(directory: Path, path: Path) -> Path:
     return path
 
 
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+PNG_END = b"\x00\x00\x00\x00IEND\xaeB`\x82"  # the IEND chunk every whole PNG ends with
+
+
 def _read_image(path: Path, flags: int) -> np.ndarray:
-    image = cv2.imread(str(path), flags) if path.is_file() else None
+    """The PNG at `path`; one cut short is refused before it is decoded (libpng would print
+    its own error on the way)."""
+    data = path.read_bytes() if path.is_file() else b""
+    if not data.startswith(PNG_SIGNATURE):
+        raise SessionError(f"{path}: expected a PNG image")
+    if not data.endswith(PNG_END):
+        raise SessionError(f"{path}: expected a whole PNG image; it is cut short")
+    image = cv2.imdecode(np.frombuffer(data, dtype=np.uint8), flags)
     if image is None:
         raise SessionError(f"{path}: expected a PNG image")
     return image

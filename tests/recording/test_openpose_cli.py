@@ -96,6 +96,8 @@ def test_input_that_is_not_openpose_output_is_one_error_line(tmp_path, recording
         (["--json", "check.txt"], "--json: expected a path ending in .json"),
         (["--model", "BODY_25B"], "--model: expected one of auto, COCO, BODY_25, got 'BODY_25B'"),
         (["--keypoint-scale", "unit"], "--image-size: expected (width, height) in pixels"),
+        (["--near", "nan", "nan"], "--near: expected a finite pixel U V, got nan nan"),
+        (["--near", "10", "inf"], "--near: expected a finite pixel U V, got 10.0 inf"),
     ],
 )
 def test_bad_options_are_one_error_line_and_write_nothing(

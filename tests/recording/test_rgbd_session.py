@@ -148,6 +148,18 @@ def test_a_frames_image_linked_out_of_the_session_is_refused_when_read(session):
         read.frame(1)
 
 
+def test_a_png_cut_short_is_refused_naming_it_and_nothing_else_is_said(session, capfd):
+    """A frame's image cut short (a copy interrupted) is refused by the session itself: libpng
+    is never given it, so its own error lines never reach the user."""
+    image = session / "depth" / "000000000002.png"
+    image.write_bytes(image.read_bytes()[:200])
+    read = read_session(session)
+    read.frame(1)
+    with pytest.raises(SessionError, match="expected a whole PNG image; it is cut short"):
+        read.frame(2)
+    assert capfd.readouterr().err == ""
+
+
 def test_a_distorted_camera_is_refused(session):
     info = yaml.safe_load((session / CAMERA_INFO).read_text())
     info["distortion_coefficients"]["data"] = [0.1, 0, 0, 0, 0]
