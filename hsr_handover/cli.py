@@ -21,6 +21,7 @@ from hsr_handover.progress import ProgressBar
 
 EXIT_USAGE = 2
 EXIT_FAILED = 1
+EXIT_SIMULATION_FAILED = 3  # the run's physics could not go on: reported, with what it did
 
 
 class UsageError(Exception):
@@ -305,7 +306,7 @@ class SimulatedTimeBar(ProgressBar):
 
 def _run(args: argparse.Namespace) -> int:
     from hsr_handover.scenario import load_scenario
-    from hsr_handover.simulation import run_scenario
+    from hsr_handover.simulation import SimulationFailed, run_scenario
 
     scenario = load_scenario(args.scenario)
     _apply_overrides(scenario, args)
@@ -316,8 +317,19 @@ def _run(args: argparse.Namespace) -> int:
             f"--trajectories: expected a scenario with handover enabled, {args.scenario} plans "
             "no motions"
         )
-    report = run_scenario(scenario, replay=replay, progress=SimulatedTimeBar(), record=record,
-                          record_format=args.record_format)  # fmt: skip
+    try:
+        report = run_scenario(scenario, replay=replay, progress=SimulatedTimeBar(),
+                              record=record, record_format=args.record_format)  # fmt: skip
+    except SimulationFailed as failed:
+        _print_run(args, failed.report, record, trajectories)
+        print(f"simulation:  failed {failed}", file=sys.stderr)
+        return EXIT_SIMULATION_FAILED
+    _print_run(args, report, record, trajectories)
+    return 0
+
+
+def _print_run(args: argparse.Namespace, report, record: Path | None, trajectories: Path | None):
+    """What a run did (as far as it went), with the files it wrote."""
     print(f"sim time:    {report.sim_time:.2f} s")
     print(f"wall time:   {report.wall_time:.2f} s")
     print(f"real-time factor: {report.real_time_factor:.2f}")
@@ -335,7 +347,6 @@ def _run(args: argparse.Namespace) -> int:
         print(f"intent:      {_recognised(report.intent.target, report.intent.recognised_time)}")
     if report.cycle is not None:
         print_cycle(report.cycle, report.person_holds)
-    return 0
 
 
 def _recognised(target: str | None, time: float) -> str:

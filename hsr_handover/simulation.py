@@ -286,6 +286,10 @@ def run_scenario(
     try:
         report = _simulate(scenario, simulation, meshcat, replay, progress, monitor_factory,
                            after_cycle_s)  # fmt: skip
+    except SimulationFailed:
+        if simulation.bag is not None:  # what was recorded up to the failure is whole
+            simulation.bag.close()
+        raise
     except BaseException:
         if simulation.bag is not None:
             simulation.bag.abort()
@@ -319,10 +323,14 @@ def _simulate(
     steps = max(1, math.ceil(duration / CHUNK_S))
     start = time.perf_counter()
     simulator.Initialize()
-    now = 0.0
+    now, failure = 0.0, None
     for step in range(1, steps + 1):
         now = duration if step == steps else duration * step / steps
-        simulator.AdvanceTo(now)
+        try:
+            simulator.AdvanceTo(now)
+        except RuntimeError as error:  # the plant's solver gave up (NaN, no factorisation)
+            now, failure = simulator.get_context().get_time(), _first_line(error)
+            break
         if progress is not None:
             progress(now, duration)
         if _cycle_ended(simulation, simulator.get_context(), after_cycle_s):
@@ -331,9 +339,26 @@ def _simulate(
     written = write_replay(meshcat, replay) if meshcat is not None else None
     root = simulator.get_context()
     commanded = _robot_output(simulation, root, interface.COMMANDED_TRAJECTORIES) or ()
-    return RunReport(now, wall, written, simulation, root, _cycle(simulation, root),
-                     _robot_output(simulation, root, "intent"), *_person(simulation, root),
-                     commanded=commanded)  # fmt: skip
+    report = RunReport(now, wall, written, simulation, root, _cycle(simulation, root),
+                       _robot_output(simulation, root, "intent"), *_person(simulation, root),
+                       commanded=commanded)  # fmt: skip
+    if failure is not None:
+        raise SimulationFailed(report, failure)
+    return report
+
+
+def _first_line(error: BaseException) -> str:
+    text = str(error).strip()
+    return text.splitlines()[0] if text else type(error).__name__
+
+
+class SimulationFailed(RuntimeError):
+    """The simulation could not go on (the plant's solver failed at `report.sim_time`): the
+    `report` of the run up to then, its replay written, and the solver's `reason`."""
+
+    def __init__(self, report: RunReport, reason: str):
+        super().__init__(f"at {report.sim_time:.2f} s: {reason}")
+        self.report, self.reason = report, reason
 
 
 def _robot_output(simulation: Simulation, root: Context, name: str) -> object | None:

@@ -175,3 +175,32 @@ def test_trajectories_out_are_refused_before_anything_runs(
     message = expected.format(scenario=SCENARIOS / scenario, path=str(path))
     assert code == 2 and capsys.readouterr().err.strip() == f"error: {message}"
     assert not replay.exists() and (path.is_dir() or not path.exists())
+
+
+def test_a_simulation_that_fails_numerically_ends_the_run_with_what_it_did(
+    tmp_path, capsys, monkeypatch
+):
+    """The plant's solver giving up part way (as a near-weightless object made it) is not a
+    crash: the run stops there, writes its replay and says what it did, when and why, with its
+    own exit status."""
+    from pydrake.systems.analysis import Simulator
+
+    from hsr_handover import simulation
+    from hsr_handover.cli import EXIT_SIMULATION_FAILED, main
+
+    class FailingSimulator(Simulator):
+        def AdvanceTo(self, time: float):
+            if time > 0.15:
+                raise RuntimeError("Call to Solve() failed: factorization not ready\nmore")
+            return super().AdvanceTo(time)
+
+    monkeypatch.setattr(simulation, "Simulator", FailingSimulator)
+    replay = tmp_path / "cut.html"
+    code = main(["run", str(SCENARIOS / "point_left.yaml"), "--duration", "0.4",
+                 "--html", str(replay)])  # fmt: skip
+    captured = capsys.readouterr()
+    assert code == EXIT_SIMULATION_FAILED == 3
+    assert captured.err.strip().splitlines()[-1] == (
+        "simulation:  failed at 0.10 s: Call to Solve() failed: factorization not ready"
+    )
+    assert "sim time:    0.10 s" in captured.out and replay.is_file()

@@ -50,6 +50,13 @@ GRIPPER_MAX_WIDTH = round(
 )  # m: what the gripper closes around, with margin
 PAYLOAD = 1.2  # kg
 LIGHTEST_OBJECT = 0.001  # kg: a gram; far lighter, the contact solver's factorisation fails
+SMALLEST_OBJECT = 0.01
+"""m: an object's least side; smaller, it is no object to hand over (under 2 px at the camera's
+1 m and 320 px), and contact between bodies of micrometres is past the solver's resolution."""
+SMALLEST_TABLE = 0.2  # m: a table's least depth or width, room for one object and the hand
+SLOWEST_CAMERA = 1.0
+"""Hz: the least camera rate; perception and intent smooth over frames a fraction of a second
+apart (IntentParams' windows), which a slower camera never fills."""
 REST_TOLERANCE = 0.005  # m: how far an object's given z may be from resting on the top
 MAX_NAME_LENGTH = 64
 
@@ -250,7 +257,7 @@ def _check_camera(scenario: Scenario, fail: Fail) -> None:
     pixels = Interval(16, 4096, "px", integer=True)
     _number(fail, "camera.width", camera.width, pixels)
     _number(fail, "camera.height", camera.height, pixels)
-    _number(fail, "camera.rate_hz", camera.rate_hz, RATE)
+    _number(fail, "camera.rate_hz", camera.rate_hz, Interval(SLOWEST_CAMERA, RATE.high, "Hz"))
     _number(fail, "camera.fov_x", camera.fov_x, Interval(0, math.pi, "rad", True, True))
     near_far = camera.depth_range
     _numbers(fail, "camera.depth_range", near_far, Interval(0, 20, "m", True), "[near, far]")
@@ -268,7 +275,7 @@ def _check_table(scenario: Scenario, fail: Fail) -> None:
     table = scenario.table
     _numbers(fail, "table.center", table.center, ROOM, "[x, y]")
     _number(fail, "table.yaw", table.yaw, YAW)
-    _numbers(fail, "table.size", table.size, Interval(0, 5, "m", True), "[depth, width]")
+    _numbers(fail, "table.size", table.size, Interval(SMALLEST_TABLE, 5, "m"), "[depth, width]")
     _number(fail, "table.height", table.height, Interval(0.3, 1.2, "m"))
     if not 0 < table.thickness < table.height:
         fail("table.thickness", f"expected 0 < thickness < height, got {table.thickness}")
@@ -301,7 +308,7 @@ def _check_object(obj: ObjectConfig, key: str, fail: Fail) -> None:
         fail(f"{key}.name", f"expected {expected}, got {describe(obj.name)}")
     _choice(fail, f"{key}.shape", obj.shape, sorted(OBJECT_SHAPES))
     layout = "[diameter, height]" if obj.shape == "cup" else "[x, y, z]"
-    _numbers(fail, f"{key}.size", obj.size, Interval(0, 0.5, "m", open_low=True), layout)
+    _numbers(fail, f"{key}.size", obj.size, Interval(SMALLEST_OBJECT, 0.5, "m"), layout)
     if min(obj.size[:2]) > GRIPPER_MAX_WIDTH:
         fail(f"{key}.size", f"expected a side at most {GRIPPER_MAX_WIDTH} m for the gripper")
     _choice(fail, f"{key}.color", obj.color, sorted(OBJECT_COLORS))

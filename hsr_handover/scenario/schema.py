@@ -66,8 +66,8 @@ class TableConfig:
     """A four-legged table: top centre [x, y] and yaw, top size [depth along its x, width along
     its y], the height of the top surface and the top's thickness (m).
 
-    Ranges: center each in [-20, 20] m; yaw in [-2pi, 2pi] rad; size each in (0, 5] m; height
-    in [0.3, 1.2] m; thickness in (0, height) m."""
+    Ranges: center each in [-20, 20] m; yaw in [-2pi, 2pi] rad; size each in [0.2, 5] m (room
+    for an object and the hand); height in [0.3, 1.2] m; thickness in (0, height) m."""
 
     center: list[float] = field(default_factory=lambda: [0.85, 0.0])
     yaw: float = 0.0
@@ -87,7 +87,7 @@ class ObjectConfig:
 
     Ranges: name of at most 64 ASCII letters, digits and _, unique, and not a name the world
     already uses ("table", "person", the robot model's name, Drake's "WorldModelInstance" and
-    "DefaultModelInstance", SDFormat's "world" and "__...__"); size each in (0, 0.5] m, the
+    "DefaultModelInstance", SDFormat's "world" and "__...__"); size each in [0.01, 0.5] m, the
     smaller horizontal side at most the gripper's 0.12 m; position x, y (and z) in [-20, 20] m,
     the footprint inside the table top; yaw in [-2pi, 2pi] rad; mass in [0.001, 1.2] kg (a gram
     to the payload).
@@ -227,7 +227,7 @@ class CameraConfig:
     camera_info holds them; empty, the pixels are square and the principal point centred, from
     `fov_x`.
 
-    Ranges: width and height integers in [16, 4096] px; rate_hz in (0, 120] Hz; fov_x in
+    Ranges: width and height integers in [16, 4096] px; rate_hz in [1, 120] Hz; fov_x in
     (0, pi) rad; depth_range [near, far] with 0 < near < far <= 20 m; intrinsics empty or
     fx, fy in (0, 1e5] px and cx, cy inside the image."""
 

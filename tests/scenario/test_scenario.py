@@ -176,7 +176,7 @@ BROKEN = {
     "NaN cup height": (
         _set("objects[0].size", [0.07, math.nan]),
         "objects[0].size[1]",
-        "expected a number in (0, 0.5] (m), got nan",
+        "expected a number in [0.01, 0.5] (m), got nan",
     ),
     "joint name that is not a string": (
         _set("robot.joints", {1: 0.3}),
@@ -194,10 +194,25 @@ BROKEN = {
         "simulation.seed",
         "got 4294967296",
     ),
+    "a camera too slow to perceive with": (
+        _set("camera.rate_hz", 1e-300),
+        "camera.rate_hz",
+        "expected a number in [1, 120] (Hz), got 1e-300",
+    ),
+    "an object of micrometres": (
+        _set("objects[0].size", [1e-6, 0.1]),
+        "objects[0].size[0]",
+        "expected a number in [0.01, 0.5] (m), got 1e-06",
+    ),
+    "a table too small for an object and a hand": (
+        _set("table.size", [0.6, 0.05]),
+        "table.size[1]",
+        "expected a number in [0.2, 5] (m), got 0.05",
+    ),
     "camera rate without end": (
         _set("camera.rate_hz", 1e308),
         "camera.rate_hz",
-        "expected a number in (0, 120] (Hz), got 1e+308",
+        "expected a number in [1, 120] (Hz), got 1e+308",
     ),
     "camera intrinsics short of four": (
         _set("camera.intrinsics", [500.0, 500.0, 320.0]),
