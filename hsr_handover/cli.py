@@ -409,11 +409,13 @@ def _intent(args: argparse.Namespace) -> int:
     except SessionError as error:
         raise UsageError(str(error)) from None
     print(f"frames:      {result.frames} at {result.rate_hz:g} Hz")
+    for reason in session.skipped:
+        print(f"skipped:     {reason}")
     print(f"intent:      {_recognised(result.target, result.recognised_time)}")
     if result.target:
         print(f"frame:       {result.frame}, confidence {result.confidence:.2f}")
     if output is not None:
-        write_json(result.to_dict(), output)
+        write_json(result.to_dict() | {"skipped": list(session.skipped)}, output)
         print(f"wrote {output}")
     return 0
 

@@ -14,12 +14,14 @@ from hsr_handover.recording.rgbd_session import SessionFrame
 class RecordedSession(Protocol):
     """A recording's `camera`, its frames' `stamps` (s, rising), the pose detector's `keypoints`
     of each frame, the robot's `settings` it was recorded with ({}: the defaults) and where
-    they came from (`settings_source`, for messages); `frame(k)` loads frame k."""
+    they came from (`settings_source`, for messages), and the frames left out, each with why
+    (`skipped`); `frame(k)` loads frame k."""
 
     camera: PinholeCamera
     stamps: tuple[float, ...]
     keypoints: tuple[Detection, ...]
     settings: dict
+    skipped: tuple[str, ...]
 
     @property
     def settings_source(self) -> str: ...

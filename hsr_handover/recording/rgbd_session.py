@@ -129,8 +129,9 @@ class SessionError(ValueError):
 @dataclasses.dataclass(frozen=True)
 class RgbdSession:
     """A session folder read: its `camera`, its frames' `stamps` (s, rising) and `indices`, the
-    `settings` it was recorded with ({} when it has none) and the pose detector's keypoints of
-    each frame; `frame(k)` loads frame k's images and pose."""
+    `settings` it was recorded with ({} when it has none), the pose detector's keypoints of
+    each frame and the frames left out, each with why (`skipped`: an image missing or cut
+    short); `frame(k)` loads frame k's images and pose."""
 
     directory: Path
     camera: PinholeCamera
@@ -139,6 +140,7 @@ class RgbdSession:
     poses: tuple[np.ndarray, ...]
     keypoints: tuple[Detection, ...]
     settings: dict
+    skipped: tuple[str, ...] = ()
 
     @property
     def settings_source(self) -> str:
@@ -248,6 +250,7 @@ def read_session(directory: Path) -> RgbdSession:
     indices = tuple(int(path.stem) for path in pose_files if path.stem.isdigit())
     if not indices:
         raise SessionError(f"{directory / 'pose'}: expected one NNNNNNNNNNNN.yaml per frame")
+    indices, pose_files, skipped = _whole_frames(directory, indices, pose_files)
     stamps, poses = zip(*(_read_pose(path) for path in pose_files), strict=True)
     if np.any(np.diff(stamps) <= 0):
         raise SessionError(f"{directory / 'pose'}: stamp: expected times rising frame by frame")
@@ -260,7 +263,39 @@ def read_session(directory: Path) -> RgbdSession:
     recording = read_openpose_recording(keypoint_files, image_size=(camera.width, camera.height))
     settings = _read_settings(directory / SESSION) if (directory / SESSION).is_file() else {}
     return RgbdSession(directory, camera, indices, tuple(stamps), tuple(poses),
-                       tuple(recording.detections), settings)  # fmt: skip
+                       tuple(recording.detections), settings, skipped)  # fmt: skip
+
+
+def _whole_frames(directory: Path, indices: tuple[int, ...], pose_files: list[Path]):
+    """The frames whose colour and depth images are there and whole PNGs (signature and end
+    read, not decoded), their pose files, and each frame left out with why."""
+    kept, files, skipped = [], [], []
+    for index, pose in zip(indices, pose_files, strict=True):
+        images = [directory / kind / f"{_name(index)}.png" for kind in ("color", "depth")]
+        problem = next(filter(None, (_png_problem(_inside(directory, p)) for p in images)), "")
+        if problem:
+            skipped.append(f"frame {index}: {problem}")
+        else:
+            kept.append(index)
+            files.append(pose)
+    if not kept:
+        raise SessionError(f"{directory}: expected a frame with whole images; {skipped[0]}")
+    return tuple(kept), files, tuple(skipped)
+
+
+def _png_problem(path: Path) -> str:
+    """Why `path` is no whole PNG image ("" when it is one), from its first and last bytes."""
+    if not path.is_file():
+        return f"{path.name} in {path.parent.name}/ is missing"
+    with path.open("rb") as stream:
+        head = stream.read(len(PNG_SIGNATURE))
+        stream.seek(max(0, path.stat().st_size - len(PNG_END)))
+        tail = stream.read()
+    if head != PNG_SIGNATURE:
+        return f"{path.parent.name}/{path.name} is not a PNG image"
+    if tail != PNG_END:
+        return f"{path.parent.name}/{path.name} is cut short"
+    return ""
 
 
 def _read_settings(path: Path) -> dict:

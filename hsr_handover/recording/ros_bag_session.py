@@ -25,6 +25,11 @@ class RosBagSession:
         self.stamps = tuple(survey.stamps)
         self.keypoints = tuple(survey.keypoints)
         self.settings = survey.settings
+        self.skipped = tuple(
+            [f"colour image at {t:.3f} s: no depth image within the tolerance"
+             for t in survey.unpaired_color]
+            + [f"frame at {t:.3f} s: no camera pose in TF" for t in survey.without_pose]
+        )  # fmt: skip
 
     @property
     def settings_source(self) -> str:

@@ -140,24 +140,39 @@ def test_a_session_is_read_only_from_inside_its_folder(session, spoil, expected)
         read_session(session)
 
 
-def test_a_frames_image_linked_out_of_the_session_is_refused_when_read(session):
+def test_a_frames_image_linked_out_of_the_session_is_refused(session):
     _link_out(session, "color/000000000001.png")
-    read = read_session(session)
-    read.frame(0)
     with pytest.raises(SessionError, match="expected a file inside the session folder"):
+        read_session(session)
+
+
+def test_a_frame_whose_image_is_cut_short_or_missing_is_skipped_and_said_why(session, capfd):
+    """A frame's image cut short (a copy interrupted) or missing leaves that frame out, named
+    with why; libpng is never given it, so its own error lines never reach the user."""
+    image = session / "depth" / "000000000002.png"
+    image.write_bytes(image.read_bytes()[:200])
+    (session / "color" / "000000000000.png").unlink()
+    read = read_session(session)
+    assert read.skipped == ("frame 0: 000000000000.png in color/ is missing",
+                            "frame 2: depth/000000000002.png is cut short")  # fmt: skip
+    assert read.stamps == pytest.approx([PERIOD]) and read.indices == (1,)
+    assert read.frame(0).stamp == pytest.approx(PERIOD)
+    assert capfd.readouterr().err == ""
+
+
+def test_an_image_spoilt_after_the_session_was_read_is_refused_when_loaded(session):
+    read = read_session(session)
+    image = session / "color" / "000000000001.png"
+    image.write_bytes(image.read_bytes()[:200])
+    with pytest.raises(SessionError, match="expected a whole PNG image; it is cut short"):
         read.frame(1)
 
 
-def test_a_png_cut_short_is_refused_naming_it_and_nothing_else_is_said(session, capfd):
-    """A frame's image cut short (a copy interrupted) is refused by the session itself: libpng
-    is never given it, so its own error lines never reach the user."""
-    image = session / "depth" / "000000000002.png"
-    image.write_bytes(image.read_bytes()[:200])
-    read = read_session(session)
-    read.frame(1)
-    with pytest.raises(SessionError, match="expected a whole PNG image; it is cut short"):
-        read.frame(2)
-    assert capfd.readouterr().err == ""
+def test_a_session_with_no_whole_frame_is_refused(session):
+    for image in (session / "color").glob("*.png"):
+        image.write_bytes(b"not a png")
+    with pytest.raises(SessionError, match="expected a frame with whole images; frame 0: "):
+        read_session(session)
 
 
 def test_a_distorted_camera_is_refused(session):
