@@ -4,58 +4,28 @@ as for the folder layout (`test_offline_intent.py`)."""
 
 from __future__ import annotations
 
-import contextlib
-import io
 import json
-import re
 
 import pytest
-import yaml
 
 from hsr_handover.cli import main
-from tests.paths import SCENARIOS
+from tests.recording.online_offline import assert_offline_as_online, record_point_left
 
 
 @pytest.fixture(scope="module", params=["ros2", "ros1"])
 def recorded_bag(request, tmp_path_factory):
-    """point_left.yaml at 320 x 240, 3.5 s, recorded as a bag: the run's printout and the bag."""
+    """point_left.yaml recorded as a bag: the run's printout and the bag."""
     folder = tmp_path_factory.mktemp(f"bag_{request.param}")
-    scenario = yaml.safe_load((SCENARIOS / "point_left.yaml").read_text())
-    scenario["camera"] = {"width": 320, "height": 240, "render_label": False}
-    scenario["perception"] = {"enabled": True}
-    scenario["simulation"]["duration"] = 3.5
-    path = folder / "point_left.yaml"
-    path.write_text(yaml.safe_dump(scenario))
     bag = folder / ("session.bag" if request.param == "ros1" else "session")
-    printed = io.StringIO()
-    with contextlib.redirect_stdout(printed):
-        code = main(["run", str(path), "--record", str(bag), "--record-format", request.param,
-                     "--html", str(folder / "r.html")])  # fmt: skip
-    assert code == 0
-    return folder, bag, printed.getvalue()
-
-
-def _line(output: str, label: str) -> str:
-    return next(line for line in output.splitlines() if line.startswith(label))
+    printed = record_point_left(folder, bag, "--record-format", request.param)
+    return folder, bag, printed
 
 
 def test_a_bag_replayed_offline_recognises_what_the_robot_did_online_and_when(recorded_bag, capsys):
     """One test per bag (the run is the cost), so each run is made once however tests are
     spread over workers."""
     folder, bag, printed = recorded_bag
-    online = _line(printed, "intent:")
-    matched = re.fullmatch(r"intent:      red \(recognised at (\d\.\d\d) s\)", online)
-    assert matched is not None, online
-    summary = folder / "intent.json"
-    assert main(["intent", str(bag), "--json", str(summary)]) == 0
-    out = capsys.readouterr().out
-    assert _line(out, "intent:") == online
-    assert _line(out, "frames:") == "frames:      105 at 30 Hz"
-    written = json.loads(summary.read_text())
-    frame = written["frame"]
-    assert written["target"] == "red"
-    assert written["recognised_time"] == pytest.approx(frame / 30, abs=1e-6)
-    assert f"{frame / 30:.2f}" == matched.group(1)
+    assert_offline_as_online(bag, printed, folder, capsys)
     # and every topic the HSR publishes is there, as bag check finds it
     summary = folder / "check.json"
     assert main(["bag", "check", str(bag), "--json", str(summary)]) == 0
