@@ -278,11 +278,12 @@ def test_the_json_keys_the_issue_names(base, box_trial, refusal, tmp_path):
 
 @pytest.mark.slow
 def test_a_person_corrects_the_robot_which_puts_the_wrong_object_back_and_hands_over_another():
-    """The moved layout's trial 12 of seed 2, end to end: a head that turns 0.49 of a gaze
-    shift reads as asking for the yellow box; the person, seeing it lifted, asks again for the
-    red cup; the robot puts the box back and hands the cup over."""
+    """The moved layout's trial 59 of seed 3, end to end: a request for the blue cup reads as
+    asking for the green cup beside it; the person, seeing it lifted, asks again; the robot
+    puts the green cup back where it stood and hands the blue one over."""
     base = load_scenario(SCENARIOS / "layouts" / "moved_base_four.yaml")
-    row = run_handover_trial(make_trials(base, 60, 0, seed=2)[12])
-    assert (row["first_recognised"], row["recognised"]) == ("yellow_box", "red_cup")
+    row = run_handover_trial(make_trials(base, 60, 0, seed=3)[59])
+    assert (row["first_recognised"], row["recognised"]) == ("green_cup", "blue_cup")
     assert row["corrected"] and row["retrieved"] and row["handed_over"]
+    assert row["set_down_m"] < 0.01  # the green cup stands where it stood
     assert not (row["table_contact"] or row["person_contact"] or row["knocked"])
