@@ -34,7 +34,7 @@ from pydrake.trajectories import BsplineTrajectory
 from hsr_handover.hsr import BASE_JOINTS, GRIPPER_JOINT, GRIPPER_MIMIC_JOINT, HEAD_JOINTS
 from hsr_handover.robot.planning.outcome import Outcome
 from hsr_handover.robot.planning.planning_scene import HELD, PlanningScene
-from hsr_handover.robot.planning.solving import solve, solved
+from hsr_handover.robot.planning.solving import PATH_OPTIMALITY_TOLERANCE, solve, solved
 
 CONTROL_POINTS = 10
 ROUTE_CONTROL_POINTS = 16  # for a way round the table
@@ -53,9 +53,11 @@ FREE_POSITION = 20.0  # m: stands in for the base's unbounded x and y
 @dataclasses.dataclass(frozen=True, kw_only=True)
 class PathResult(Outcome):
     """`ok` with the `path` (a B-spline over plant positions, on its own time scale), or not
-    with the `reason`."""
+    with the `reason` and the solver's `last` control points (nq, n; None if it gave none),
+    from which a solve stopped short of a verdict may go on."""
 
     path: BsplineTrajectory | None
+    last: np.ndarray | None = None
 
 
 @dataclasses.dataclass(frozen=True)
@@ -166,12 +168,13 @@ def optimize_path(
             root, context = alone
             constraints += [root, context, _keep_clear_of(trajopt, scene, target, context, samples)]
         trajopt.SetInitialGuess(BsplineTrajectory(trajopt.basis(), guess * 1.0))
-        result = solve(trajopt.prog())
+        result = solve(trajopt.prog(), optimality=PATH_OPTIMALITY_TOLERANCE)
         usable = solved(trajopt.prog(), result)
         del constraints  # the solve is done; the constraints held the plant contexts
     if not usable:
         reason = f"no path ({result.get_solver_id().name()} {result.get_solution_result().name})"
-        return PathResult(ok=False, reason=reason, path=None)
+        last = np.hstack(trajopt.ReconstructTrajectory(result).control_points())
+        return PathResult(ok=False, reason=reason, path=None, last=last)
     return PathResult(ok=True, reason="ok", path=trajopt.ReconstructTrajectory(result))
 
 
