@@ -431,7 +431,8 @@ def summarise(records: list[dict], variant: str) -> dict:
     }
 
 
-def _figures(mine: list[dict]) -> dict:
+def _figures(records: list[dict]) -> dict:
+    mine = [r for r in records if "plan_s" in r]  # not "no person perceived": nothing to plan
     done = [r for r in mine if r["ok"]]
     plan_s = [r["plan_s"] for r in done]
     clearances = [r["min_clearance_m"] for r in done if r["min_clearance_m"] is not None]
@@ -440,6 +441,7 @@ def _figures(mine: list[dict]) -> dict:
     reachable = len(mine) - judged["unreachable"]
     return {
         "plans": len(mine),
+        "not_planned": len(records) - len(mine),
         "succeeded": len(done),
         "success_rate": len(done) / len(mine) if mine else 0.0,
         "missed": judged["missed"],

@@ -42,7 +42,8 @@ def test_the_benchmark_writes_its_figures_for_every_kind(tmp_path):
     assert all(plan["reason"] for plan in failed)
     planned = [plan for plan in failed if "plan_s" in plan]  # not "no person perceived"
     assert all(plan["judged"] in ("missed", "unreachable") for plan in planned)
-    assert sum(figures["failures"].values()) == len([p for p in failed if p["variant"] == "seeded"])
+    seeded = [plan for plan in planned if plan["variant"] == "seeded"]
+    assert sum(figures["failures"].values()) == len(seeded)
     plans = figures["plans_detail"]
     assert {plan["variant"] for plan in plans} == {"seeded", "unseeded"}
     assert "baseline" in result.stdout and "posture" in result.stdout

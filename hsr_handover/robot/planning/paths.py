@@ -136,10 +136,11 @@ def _fallbacks(scene: PlanningScene, q_from: np.ndarray, q_to: np.ndarray, stopp
     if stopped is not None:
         yield "continued", stopped
     base = [scene.index(joint) for joint in BASE_JOINTS]
-    driven, turned = q_from.copy(), q_to.copy()
-    driven[base], turned[base] = q_to[base], q_from[base]
-    yield "base first", through([q_from, driven, q_to])
-    yield "arm first", through([q_from, turned, q_to])
+    if not np.allclose(q_from[base], q_to[base]):  # else both are the straight line
+        driven, turned = q_from.copy(), q_to.copy()
+        driven[base], turned[base] = q_to[base], q_from[base]
+        yield "base first", through([q_from, driven, q_to])
+        yield "arm first", through([q_from, turned, q_to])
     lift = scene.index("arm_lift_joint")
     top = scene.plant.GetPositionUpperLimits()[lift]
     raised_from, raised_to = q_from.copy(), q_to.copy()

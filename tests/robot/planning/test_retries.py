@@ -48,7 +48,9 @@ def _ready(scene: PlanningScene) -> np.ndarray:
 
 
 def _raised(scene: PlanningScene, q: np.ndarray) -> np.ndarray:
+    """`q` with the arm raised and the base 20 cm to the side (away from the table)."""
     goal = q.copy()
+    goal[scene.index("base_y_joint")] += 0.2
     goal[scene.index("arm_lift_joint")] = 0.3
     goal[scene.index("torso_lift_joint")] = 0.15
     return goal
