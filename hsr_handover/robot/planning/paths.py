@@ -30,7 +30,12 @@ from hsr_handover.robot.planning.trajectory import (
     start_contact,
     straight_guess,
 )
-from hsr_handover.robot.planning.verification import DIP_ALLOWANCE, VERIFY_PER_SAMPLE, path_dips
+from hsr_handover.robot.planning.verification import (
+    DIP_ALLOWANCE,
+    VERIFY_PER_SAMPLE,
+    keeps_bounds,
+    path_dips,
+)
 
 RETRY = "retry"  # the Stopwatch stage of the fallbacks
 RAISE_M = 0.2  # m the arm lift rises over the way for the "raised" fallback
@@ -124,8 +129,7 @@ def _line_clear(scene, line, q_from, q_to, ignore, target) -> bool:
     0.2-0.4 s to come back to about where it started."""
     span = float(np.abs(q_to - q_from).max())
     samples = max(VERIFY_PER_SAMPLE * COLLISION_SAMPLES, int(np.ceil(span / LINE_STEP)) + 1)
-    contact = start_contact(scene, q_from, ignore)
-    return path_dips(scene, line, ignore, contact, samples, target).max() <= 0
+    return keeps_bounds(scene, line, ignore, start_contact(scene, q_from, ignore), samples, target)
 
 
 def _fallbacks(scene: PlanningScene, q_from: np.ndarray, q_to: np.ndarray, stopped):

@@ -25,22 +25,14 @@ from pydrake.solvers import (
 
 FEASIBILITY_TOLERANCE = 1e-4  # of each constraint's bounds (m, rad, or the constraint's own units)
 OPTIMALITY_TOLERANCE = 1e-2  # SNOPT's "Major optimality tolerance"
-PATH_OPTIMALITY_TOLERANCE = 5e-2
-"""The same for a path's trajectory optimisation: on nine carries of the planning benchmark's
-scenes (each from its handover pose's IK, timed alone) 1e-2 took 21 s in all, one carry 7.7 s,
-and 5e-2 took 10 s, none over 2.8 s, for timed paths at most 2 % longer."""
 ITERATION_LIMIT = 150  # SNOPT's "Major iterations limit"
 
 
-def solve(
-    prog: MathematicalProgram,
-    guess: np.ndarray | None = None,
-    optimality: float = OPTIMALITY_TOLERANCE,
-) -> MathematicalProgramResult:
-    """Drake's Solve (SNOPT for the planner's nonlinear programs) with the `optimality`
-    tolerance and ITERATION_LIMIT."""
+def solve(prog: MathematicalProgram, guess: np.ndarray | None = None) -> MathematicalProgramResult:
+    """Drake's Solve (SNOPT for the planner's nonlinear programs) with OPTIMALITY_TOLERANCE and
+    ITERATION_LIMIT."""
     options, snopt = SolverOptions(), SnoptSolver().solver_id()
-    options.SetOption(snopt, "Major optimality tolerance", optimality)
+    options.SetOption(snopt, "Major optimality tolerance", OPTIMALITY_TOLERANCE)
     options.SetOption(snopt, "Major iterations limit", ITERATION_LIMIT)
     return Solve(prog, guess, options)
 

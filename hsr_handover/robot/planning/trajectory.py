@@ -34,7 +34,7 @@ from pydrake.trajectories import BsplineTrajectory
 from hsr_handover.hsr import BASE_JOINTS, GRIPPER_JOINT, GRIPPER_MIMIC_JOINT, HEAD_JOINTS
 from hsr_handover.robot.planning.outcome import Outcome
 from hsr_handover.robot.planning.planning_scene import HELD, PlanningScene
-from hsr_handover.robot.planning.solving import PATH_OPTIMALITY_TOLERANCE, solve, solved
+from hsr_handover.robot.planning.solving import solve, solved
 
 CONTROL_POINTS = 10
 ROUTE_CONTROL_POINTS = 16  # for a way round the table
@@ -168,7 +168,7 @@ def optimize_path(
             root, context = alone
             constraints += [root, context, _keep_clear_of(trajopt, scene, target, context, samples)]
         trajopt.SetInitialGuess(BsplineTrajectory(trajopt.basis(), guess * 1.0))
-        result = solve(trajopt.prog(), optimality=PATH_OPTIMALITY_TOLERANCE)
+        result = solve(trajopt.prog())
         usable = solved(trajopt.prog(), result)
         del constraints  # the solve is done; the constraints held the plant contexts
     if not usable:

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from pydrake.math import BsplineBasis
+from pydrake.trajectories import BsplineTrajectory
 
 from hsr_handover.robot.effectivity.arm_map import load_or_build
 from hsr_handover.robot.effectivity.person_map import HumanArm, PersonEffectivity
@@ -21,8 +23,13 @@ from hsr_handover.robot.planning.planner import Held, plan_posture, plan_put_bac
 from hsr_handover.robot.planning.planning_scene import PlanningScene
 from hsr_handover.robot.planning.solving import INFEASIBLE, SOLVER_TROUBLE, verdict
 from hsr_handover.robot.planning.timing import JointLimits, joint_limits
-from hsr_handover.robot.planning.trajectory import COLLISION_BOUND, PathResult
-from hsr_handover.robot.planning.verification import DIP_ALLOWANCE, timed_clearance
+from hsr_handover.robot.planning.trajectory import COLLISION_BOUND, PathResult, StartContact
+from hsr_handover.robot.planning.verification import (
+    DIP_ALLOWANCE,
+    keeps_bounds,
+    path_dips,
+    timed_clearance,
+)
 
 TABLE_TOP = 0.72
 
@@ -161,3 +168,14 @@ def test_an_ik_that_fails_says_whether_it_was_infeasible(scene):
     result = solve_palm_ik(scene, goal, _ready(scene))
     assert not result.ok
     assert result.reason.endswith(f", {verdict(result.reason)}")
+
+
+@pytest.mark.parametrize("x", [0.6, -0.5])  # the base driven into the table, or away from it
+def test_a_line_keeps_its_bounds_as_its_dips_say(scene, x):
+    q = _ready(scene)
+    goal = q.copy()
+    goal[scene.index("base_x_joint")] = x
+    line = BsplineTrajectory(BsplineBasis(4, 10), np.linspace(q, goal, 10).T)
+    dips = path_dips(scene, line, (), StartContact(), 120)
+    assert keeps_bounds(scene, line, (), StartContact(), 120) == (dips.max() <= 0)
+    assert (dips.max() <= 0) == (x < 0)
