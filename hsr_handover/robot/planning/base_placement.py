@@ -131,6 +131,13 @@ def _at_base(scene: PlanningScene, q_now: np.ndarray, xy: np.ndarray, yaw: float
     return q
 
 
+def with_arm(scene: PlanningScene, q: np.ndarray, arm: np.ndarray) -> np.ndarray:
+    """A copy of `q` with the arm's joints (ARM_JOINTS order) at `arm`, the torso coupled."""
+    q = q.copy()
+    _set_arm(scene, q, arm)
+    return q
+
+
 def _set_arm(scene: PlanningScene, q: np.ndarray, arm: np.ndarray) -> None:
     for joint, value in zip(ARM_JOINTS, arm, strict=True):
         q[scene.index(joint)] = value

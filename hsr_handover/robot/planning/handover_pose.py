@@ -16,11 +16,12 @@ import math
 
 import numpy as np
 
-from hsr_handover.hsr import BASE_JOINTS, GRIPPER_JOINT
+from hsr_handover.hsr import ARM_JOINTS, BASE_JOINTS, GRIPPER_JOINT, TORSO_JOINT
 from hsr_handover.robot.effectivity.arm_map import ArmEffectivity
 from hsr_handover.robot.effectivity.mutual_area import handover_aims, handover_point
 from hsr_handover.robot.effectivity.person_map import PersonEffectivity
-from hsr_handover.robot.planning.base_placement import place_base
+from hsr_handover.robot.planning.base_placement import hand_posture, place_base, with_arm
+from hsr_handover.robot.planning.grasps import PAD_OFFSET
 from hsr_handover.robot.planning.inverse_kinematics import PalmGoal, solve_palm_ik
 from hsr_handover.robot.planning.outcome import Outcome
 from hsr_handover.robot.planning.planning_scene import PlanningScene
@@ -29,6 +30,8 @@ HANDOVER_TURNS_DEG = (0.0, 30.0, -30.0, 60.0, -60.0, 90.0, -90.0)
 """The robot faces the person from in front or from the side, never from behind (a person
 does not see what comes from behind; the chair is there)."""
 NO_MUTUAL_AREA = "no mutual area"
+NEIGHBOUR_SEEDS = 3  # map nodes round the point whose arms seed a retry of a failed IK
+RETRIED_POSES = 2  # failed poses retried from other seeds, in the order first tried
 
 
 @dataclasses.dataclass(frozen=True, kw_only=True)
@@ -43,6 +46,7 @@ class HandoverPose(Outcome):
     q: np.ndarray | None = None
     robot_nodes: np.ndarray | None = None
     mutual: np.ndarray | None = None
+    found_by: str = ""  # the retry's seed that found it, "" for the first tries
 
 
 def nodes_in_world(arm_map: ArmEffectivity, base: np.ndarray) -> np.ndarray:
@@ -103,6 +107,7 @@ def plan_handover_pose(
     table = None if scene.scene.table is None else scene.scene.table.height
     reason = f"{NO_MUTUAL_AREA}: no base pose clear of the scene reaches the person"
     aims = handover_aims(person.arm)
+    failed = []  # (the pose it would have been, its goal and seed) where IK failed
     for aim, (approach, closing) in _aims_and_approaches(aims, person):
         for placement in place_base(scene, arm_map, aim, approach, closing, q_now, ignore, 1):
             base = placement.q[[scene.index(joint) for joint in BASE_JOINTS]]
@@ -115,18 +120,55 @@ def plan_handover_pose(
             opening = 2 * q_now[scene.index(GRIPPER_JOINT)]
             goal = PalmGoal(point, approach, closing, opening)
             result = _ik_at_point(scene, arm_map, goal, placement.q, q_now, ignore)
+            pose = HandoverPose(ok=True, reason="ok", ideal=aim, point=point, q=result.q,
+                                robot_nodes=robot_nodes, mutual=mutual)  # fmt: skip
             if result.ok:
-                return HandoverPose(
-                    ok=True,
-                    reason="ok",
-                    ideal=aim,
-                    point=point,
-                    q=result.q,
-                    robot_nodes=robot_nodes,
-                    mutual=mutual,
-                )
+                return pose
             reason = f"unreachable: {result.reason} at the handover point"
-    return HandoverPose(ok=False, reason=reason, ideal=aims[0])
+            failed.append((pose, goal, placement.q))
+    return _retried(scene, arm_map, failed, q_now, ignore) or HandoverPose(
+        ok=False, reason=reason, ideal=aims[0]
+    )
+
+
+def _retried(scene, arm_map, failed, q_now: np.ndarray, ignore) -> HandoverPose | None:
+    """The first pose whose IK, failed from its first seeds, is found from other seeds
+    (`other_seeds`: the map's nodes round the point, the arm as it holds the object now), in
+    the order they were tried; None if none is."""
+    for pose, goal, seed in failed[:RETRIED_POSES]:
+        for name, q_seed in other_seeds(scene, arm_map, goal, seed, q_now):
+            result = solve_palm_ik(scene, goal, q_seed, ignore=ignore)
+            if result.ok:
+                return dataclasses.replace(pose, q=result.q, found_by=name)
+    return None
+
+
+def other_seeds(
+    scene: PlanningScene,
+    arm_map: ArmEffectivity,
+    goal: PalmGoal,
+    seed: np.ndarray,
+    q_now: np.ndarray,
+) -> list[tuple[str, np.ndarray]]:
+    """Seeds for a retry at `goal` with the base where `seed` has it: the arm at each of the
+    NEIGHBOUR_SEEDS map nodes nearest the palm (eq. 11 blends them; one alone can lie on the
+    other side of a joint limit or an obstacle), the hand turned to the goal; then the arm as
+    it is at `q_now` (the previous plan's end)."""
+    x, y, yaw = (scene.index(joint) for joint in BASE_JOINTS)
+    c, s = math.cos(seed[yaw]), math.sin(seed[yaw])
+    to_base = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
+    palm = np.asarray(goal.point, float) - PAD_OFFSET * np.asarray(goal.approach, float)
+    local = to_base @ (palm - np.array([seed[x], seed[y], 0.0]))
+    nearest = np.argsort(np.linalg.norm(arm_map.nodes - local, axis=1))[:NEIGHBOUR_SEEDS]
+    seeds = []
+    for rank, node in enumerate(nearest):
+        arm = hand_posture(arm_map.joints[node], to_base @ goal.approach, to_base @ goal.closing)
+        seeds.append((f"map node {rank + 1}", with_arm(scene, seed, arm)))
+    as_it_is = seed.copy()
+    arm_at = [scene.index(joint) for joint in (*ARM_JOINTS, TORSO_JOINT)]
+    as_it_is[arm_at] = q_now[arm_at]
+    seeds.append(("arm as it is", as_it_is))
+    return seeds
 
 
 def _ik_at_point(scene, arm_map, goal: PalmGoal, seed: np.ndarray, q_now: np.ndarray, ignore):

@@ -17,7 +17,7 @@ from hsr_handover.hsr import BASE_JOINTS, GRIPPER_JOINT, HEAD_JOINTS, PALM_FRAME
 from hsr_handover.robot.planning.grasps import PAD_OFFSET
 from hsr_handover.robot.planning.outcome import Outcome
 from hsr_handover.robot.planning.planning_scene import PlanningScene
-from hsr_handover.robot.planning.solving import solve, solved
+from hsr_handover.robot.planning.solving import solve, solved, verdict
 
 MIN_DISTANCE = 0.02  # m from every obstacle at an IK solution
 POINT_TOLERANCE = 0.005  # m, each axis, the pads' centre from its target
@@ -67,7 +67,8 @@ def solve_palm_ik(
     q = result.GetSolution(ik.q())
     if not usable:
         solver = f"{result.get_solver_id().name()} {result.get_solution_result().name}"
-        return IkResult(ok=False, q=q, reason=f"no IK solution ({solver})")
+        failure = f"no IK solution ({solver})"
+        return IkResult(ok=False, q=q, reason=f"{failure}, {verdict(failure)}")
     return IkResult(ok=True, q=q, reason="ok")
 
 

@@ -68,7 +68,9 @@ class Plan(Outcome):
     `reason`. The wall `seconds` of each stage (`Stopwatch`) and the IK solves tried; for a
     grasp, the object as it will be `held` (`planner.Held`, for later plans); for a handover,
     the `pose` chosen and the person's arm it hands to (`receiving`: "r" or "l"); what the
-    replay shows of it (`view`)."""
+    replay shows of it (`view`). `retried` names what a retry or fallback found after the
+    first tries failed ("carry: base first", "handover pose: map node 3"), none when they
+    found it all."""
 
     target: str = ""
     motions: tuple[Motion, ...] = ()
@@ -79,6 +81,7 @@ class Plan(Outcome):
     pose: HandoverPose | None = None
     receiving: str = ""
     view: PlanView | None = None
+    retried: tuple[str, ...] = ()
 
     @property
     def duration(self) -> float:

@@ -30,7 +30,7 @@ from hsr_handover.robot.planning.handover_pose import (
     unseeded_handover_pose,
 )
 from hsr_handover.robot.planning.inverse_kinematics import PalmGoal, solve_palm_ik
-from hsr_handover.robot.planning.paths import find_path
+from hsr_handover.robot.planning.paths import RETRY, search_path
 from hsr_handover.robot.planning.plan import Motion, Plan
 from hsr_handover.robot.planning.planning_scene import PERSON, PlanningScene
 from hsr_handover.robot.planning.stopwatch import Stopwatch
@@ -48,7 +48,7 @@ from hsr_handover.robot.planning.verification import (
     path_dips,
 )
 
-STAGES = ("ik", "optimisation", "timing")
+STAGES = ("ik", "optimisation", "timing", RETRY)
 HANDOVER = "handover"  # a handover plan's target
 RETREAT = "retreat"  # a retreat plan's target and motion
 POSTURE = "posture"  # a plan to a posture given joint by joint: its target and motion
@@ -74,14 +74,16 @@ fingers, and no path from inside the person's perceived capsules is feasible."""
 
 
 class Leg(NamedTuple):
-    """A path to plan: its `name`, the obstacles it may touch (`ignore`), its ends, and the one
-    of them it closes the hand on (`target`, kept as far as the end keeps it: `Target`)."""
+    """A path to plan: its `name`, the obstacles it may touch (`ignore`), its ends, the one
+    of them it closes the hand on (`target`, kept as far as the end keeps it: `Target`), and
+    first guesses to try before the planner's own (`first`: (name, control points))."""
 
     name: str
     ignore: tuple[str, ...]
     q_from: np.ndarray
     q_to: np.ndarray
     target: str = ""
+    first: tuple[tuple[str, np.ndarray], ...] = ()
 
 
 @dataclasses.dataclass(frozen=True)
@@ -207,27 +209,33 @@ def plan_put_back(
     watch = Stopwatch(STAGES)
     ignore = (held.label,)
     back: tuple[Motion, ...] = ()
+    retried: tuple[str, ...] = ()
     if np.abs(q_now - q_lifted).max() > AT_POSTURE:
         with holding(scene, held, q_now):
             plan = _way_back(scene, q_now, q_lifted, came, ignore, limits, watch)
         if not plan.ok:
             return plan
-        back = plan.motions
+        back, retried = plan.motions, plan.retried
     leg = Leg(LOWER, ignore, q_lifted, held.q_grasp)
     plan = _plan_legs(scene, PUT_BACK, (leg,), limits, watch)
-    return dataclasses.replace(plan, motions=back + plan.motions) if plan.ok else plan
+    if not plan.ok:
+        return dataclasses.replace(plan, retried=retried + plan.retried)
+    return dataclasses.replace(plan, motions=back + plan.motions, retried=retried + plan.retried)
 
 
 def _way_back(scene, q_now, q_to, came, ignore, limits, watch: Stopwatch) -> Plan:
     """From `q_now` to `q_to` the way it `came` (reversed) when that keeps clear as a path
-    checked between its samples must, else as any leg. From part way along a carry the line
-    back to its start and the stowed round both failed (the moved layout's trial 12 of seed 2),
-    and so did the optimiser started from the way it came, which passed a cup 1.2 cm off:
-    inside the optimiser's bound at its samples, clear as a verified path must be."""
+    checked between its samples must, else as any leg, the optimiser started first from the
+    way it came (the carry's own path, feasible when it was planned). From part way along a
+    carry the line back to its start and the stowed round both failed (the moved layout's
+    trial 12 of seed 2); the way it came, taken as it is, passed a cup 1.2 cm off: inside the
+    optimiser's bound at its samples, clear as a verified path must be."""
+    first: tuple[tuple[str, np.ndarray], ...] = ()
     if len(came) >= 2:
         with watch.stage("optimisation"):
             points = np.array(came[::-1], dtype=float).T
             points[:, 0], points[:, -1] = q_now, q_to
+            first = (("came", points),)
             path = BsplineTrajectory(BsplineBasis(4, points.shape[1]), points)
             contact = start_contact(scene, q_now, ignore)
             dips = path_dips(scene, path, ignore, contact, VERIFY_PER_SAMPLE * COLLISION_SAMPLES)
@@ -238,7 +246,7 @@ def _way_back(scene, q_now, q_to, came, ignore, limits, watch: Stopwatch) -> Pla
                 motion = Motion(name=PUT_BACK, trajectory=timed, ignore=ignore)
                 return Plan(ok=True, reason="ok", target=PUT_BACK, motions=(motion,),
                             seconds=watch.snapshot(), goal=q_to)  # fmt: skip
-    leg = Leg(PUT_BACK, ignore, q_now, q_to)
+    leg = Leg(PUT_BACK, ignore, q_now, q_to, first=first)
     return _plan_legs(scene, PUT_BACK, (leg,), limits, watch)
 
 
@@ -317,6 +325,8 @@ def _plan_handover(scene, arm_map, person, q_now, limits, ignore: tuple[str, ...
         return Plan(ok=False, reason=pose.reason, target=HANDOVER, seconds=watch.snapshot())
     leg = Leg("carry", ignore, q_now, pose.q)
     plan = _plan_legs(scene, HANDOVER, (leg,), limits, watch, ik_solves=1)
+    retried = (f"handover pose: {pose.found_by}",) if pose.found_by else ()
+    plan = dataclasses.replace(plan, retried=retried + plan.retried)
     return dataclasses.replace(plan, pose=pose) if plan.ok else plan
 
 
@@ -329,19 +339,24 @@ def _plan_legs(
     ik_solves: int = 0,
 ) -> Plan:
     """Path and timing for each leg in turn, timed on `watch`."""
-    motions = []
-    for name, ignore, q_from, q_to, closes_on in legs:
+    motions, retried = [], []
+    for name, ignore, q_from, q_to, closes_on, first in legs:
         with watch.stage("optimisation"):
             approached = approached_target(scene, q_to, closes_on) if closes_on else None
-            straight = name in STRAIGHT_LEGS
-            path, reason = find_path(scene, q_from, q_to, ignore, straight, approached)
-        if path is not None:
+        straight = name in STRAIGHT_LEGS
+        found = search_path(scene, q_from, q_to, ignore, straight, watch, approached, first)
+        reason = found.reason
+        if found.ok:
             with watch.stage("timing"):
-                timed = time_path(path, limits)
+                timed = time_path(found.path, limits)
             reason = timed.reason
-        if path is None or not timed.ok:
+        if not found.ok or not timed.ok:
             return Plan(ok=False, reason=f"{name}: {reason}", target=target,
-                        seconds=watch.snapshot(), ik_solves=ik_solves)  # fmt: skip
+                        seconds=watch.snapshot(), ik_solves=ik_solves,
+                        retried=tuple(retried))  # fmt: skip
+        if found.retried:
+            retried.append(f"{name}: {found.found_by}")
         motions.append(Motion(name=name, trajectory=timed, ignore=ignore))
     return Plan(ok=True, reason="ok", target=target, motions=tuple(motions),
-                seconds=watch.snapshot(), ik_solves=ik_solves, goal=legs[-1].q_to)  # fmt: skip
+                seconds=watch.snapshot(), ik_solves=ik_solves, goal=legs[-1].q_to,
+                retried=tuple(retried))  # fmt: skip

@@ -43,3 +43,16 @@ def solved(prog: MathematicalProgram, result: MathematicalProgramResult) -> bool
     if result.is_success():
         return True
     return not result.GetInfeasibleConstraintNames(prog, FEASIBILITY_TOLERANCE)
+
+
+INFEASIBLE = "infeasible"  # SNOPT's verdict: no feasible point near where it started
+SOLVER_TROUBLE = "solver trouble"  # it stopped short of a verdict: iteration limit, numerics
+INFEASIBLE_CODE = "kInfeasibleConstraints"
+
+
+def verdict(reasons: str) -> str:
+    """INFEASIBLE when every failed solve named in `reasons` ("no path (...)", "no IK solution
+    (...)", "dips ...") ended in SNOPT's verdict of infeasibility, a local one (from another
+    guess there may be a way), else SOLVER_TROUBLE."""
+    tried = sum(reasons.count(failure) for failure in ("no path", "no IK solution", "dips"))
+    return INFEASIBLE if tried and reasons.count(INFEASIBLE_CODE) == tried else SOLVER_TROUBLE

@@ -53,9 +53,11 @@ FREE_POSITION = 20.0  # m: stands in for the base's unbounded x and y
 @dataclasses.dataclass(frozen=True, kw_only=True)
 class PathResult(Outcome):
     """`ok` with the `path` (a B-spline over plant positions, on its own time scale), or not
-    with the `reason`."""
+    with the `reason` and the solver's `last` control points (nq, n; None if it gave none),
+    from which a solve stopped short of a verdict may go on."""
 
     path: BsplineTrajectory | None
+    last: np.ndarray | None = None
 
 
 @dataclasses.dataclass(frozen=True)
@@ -171,7 +173,8 @@ def optimize_path(
         del constraints  # the solve is done; the constraints held the plant contexts
     if not usable:
         reason = f"no path ({result.get_solver_id().name()} {result.get_solution_result().name})"
-        return PathResult(ok=False, reason=reason, path=None)
+        last = np.hstack(trajopt.ReconstructTrajectory(result).control_points())
+        return PathResult(ok=False, reason=reason, path=None, last=last)
     return PathResult(ok=True, reason="ok", path=trajopt.ReconstructTrajectory(result))
 
 
