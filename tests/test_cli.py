@@ -52,7 +52,7 @@ def test_run_writes_a_replay_holding_the_recording(tmp_path):
         assert any(path.startswith(f"/drake/visualizer/{model}/") for path in animated), model
     clip = animation["animations"][0]["clip"]
     assert clip["fps"] == 20 and max(key["time"] for key in clip["tracks"][0]["keys"]) >= 5
-    assert not list(tmp_path.glob(".*.tmp"))  # no temporary left behind
+    assert not list(tmp_path.glob(".*.partial*"))  # no temporary left behind
 
 
 class _Terminal(io.StringIO):

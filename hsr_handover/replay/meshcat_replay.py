@@ -2,14 +2,13 @@
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
 from numpy.typing import ArrayLike
 from pydrake.geometry import Meshcat, MeshcatParams
 
+from hsr_handover.output_files import write_together
 from hsr_handover.replay.legend import with_legend
 from hsr_handover.replay.overlays import drawn_overlays
 
@@ -131,19 +130,5 @@ def write_replay(meshcat: Meshcat, path: Path) -> Path:
     meshcat.PublishRecording()
     html = with_legend(with_webgl_notice(meshcat.StaticHtml()), drawn_overlays(meshcat))
     path = Path(path)
-    handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(handle, "w") as stream:
-            stream.write(html)
-        os.chmod(temporary, 0o666 & ~_umask())  # mkstemp makes it private; a replay is not
-        os.replace(temporary, path)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
+    write_together({path: lambda temporary: temporary.write_text(html)})
     return path
-
-
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
