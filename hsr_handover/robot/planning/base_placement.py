@@ -26,12 +26,16 @@ from hsr_handover.kinematics import hsr_arm
 from hsr_handover.kinematics.hsr_arm import ARM_FLEX_ORIGIN
 from hsr_handover.robot.effectivity.arm_map import ArmEffectivity
 from hsr_handover.robot.planning.grasps import PAD_OFFSET
-from hsr_handover.robot.planning.planning_scene import PlanningScene
+from hsr_handover.robot.planning.planning_scene import TABLE, TABLE_MARGIN, PlanningScene
 
 REACHES = np.arange(0.30, 0.66, 0.025)  # m, palm ahead of the base centre, the candidates
 PREFERRED_REACH = 0.47  # m: the arm about level, far from its limits
 BASE_CLEARANCE = 0.04  # m the folded-up robot keeps from every obstacle where it stands
 MAX_CANDIDATES = 4
+BASE_DISC_RADIUS, BASE_DISC_TOP = 0.215, 0.14
+"""m: a hair inside the HSR's base disc (hsrb.sdf: radius 0.218 round the base's x, y, from 1 to
+14 cm up). A base whose centre is nearer the perceived table's block (floor to top) than this
+plus BASE_CLEARANCE cannot keep BASE_CLEARANCE from it (`_in_table`)."""
 ROUND_TURNS_DEG = (90.0, -90.0, 45.0, -45.0, 135.0, -135.0, 180.0)
 """Headings a turned base tries for a vertical approach, from facing the object as it does
 from where the robot stands: square to that first (beside a table the robot faces), then
@@ -159,8 +163,23 @@ def _folded_clear(scene: PlanningScene, q: np.ndarray, ignore: tuple[str, ...]) 
     """Whether the robot at q's base with the arm folded keeps BASE_CLEARANCE from everything:
     asked only within that distance, as most candidates are not clear (a handover pose
     tries about 150) and a query of all within NEAR cost several times as much."""
+    if _in_table(scene, q, ignore):
+        return False
     folded = _folded(scene, q)
     return scene.clearance_at(folded, ignore, within=BASE_CLEARANCE) >= BASE_CLEARANCE
+
+
+def _in_table(scene: PlanningScene, q: np.ndarray, ignore: tuple[str, ...]) -> bool:
+    """Whether the base disc at q's x, y comes within BASE_CLEARANCE of the table's block (the
+    block rising above the disc, the table not ignored): then no distance query is needed to
+    rule it out. Most of a handover pose's candidates stand in the table behind the seated
+    person, and a query that finds the robot inside the table costs the most."""
+    table = scene.scene.table
+    if table is None or TABLE in ignore or table.height < BASE_DISC_TOP:
+        return False
+    xy = q[[scene.index(BASE_JOINTS[0]), scene.index(BASE_JOINTS[1])]]
+    outside = np.maximum(np.abs(table.to_local(xy)) - (table.size / 2 + TABLE_MARGIN), 0.0)
+    return float(np.hypot(*outside)) < BASE_DISC_RADIUS + BASE_CLEARANCE
 
 
 def _folded(scene: PlanningScene, q: np.ndarray) -> np.ndarray:
