@@ -26,12 +26,16 @@ from hsr_handover.kinematics import hsr_arm
 from hsr_handover.kinematics.hsr_arm import ARM_FLEX_ORIGIN
 from hsr_handover.robot.effectivity.arm_map import ArmEffectivity
 from hsr_handover.robot.planning.grasps import PAD_OFFSET
-from hsr_handover.robot.planning.planning_scene import PlanningScene
+from hsr_handover.robot.planning.planning_scene import TABLE, TABLE_MARGIN, PlanningScene
 
 REACHES = np.arange(0.30, 0.66, 0.025)  # m, palm ahead of the base centre, the candidates
 PREFERRED_REACH = 0.47  # m: the arm about level, far from its limits
 BASE_CLEARANCE = 0.04  # m the folded-up robot keeps from every obstacle where it stands
 MAX_CANDIDATES = 4
+BASE_DISC_RADIUS, BASE_DISC_TOP = 0.215, 0.14
+"""m: a hair inside the HSR's base disc (hsrb.sdf: radius 0.218 round the base's x, y, from 1 to
+14 cm up). A base whose centre is nearer the perceived table's block (floor to top) than this
+plus BASE_CLEARANCE cannot keep BASE_CLEARANCE from it (`_in_table`)."""
 ROUND_TURNS_DEG = (90.0, -90.0, 45.0, -45.0, 135.0, -135.0, 180.0)
 """Headings a turned base tries for a vertical approach, from facing the object as it does
 from where the robot stands: square to that first (beside a table the robot faces), then
@@ -101,20 +105,16 @@ def place_base(
     arm as it is now."""
     palm = np.asarray(point, float) - PAD_OFFSET * np.asarray(approach, float)
     robot_xy = q_now[[scene.index(BASE_JOINTS[0]), scene.index(BASE_JOINTS[1])]]
-    reaches = [PREFERRED_REACH] if arm_map is None else sorted(
-        REACHES, key=lambda reach: abs(reach - PREFERRED_REACH))  # fmt: skip
+    reaches, palms = _mapped_reaches(arm_map, palm[2])
     placements = []
     for yaw in base_yaws(approach, palm - np.array([*robot_xy, palm[2]]), turned):
         to_base = np.array([[math.cos(yaw), math.sin(yaw), 0],
                             [-math.sin(yaw), math.cos(yaw), 0], [0, 0, 1]])  # fmt: skip
-        for reach in reaches:
-            local = np.array([reach, ARM_FLEX_ORIGIN[1], palm[2]])
-            if arm_map is not None and not arm_map.reachable(local[None])[0]:
-                continue
+        for reach, local in zip(reaches, palms, strict=True):
             q = _at_base(scene, q_now, base_pose(palm, yaw, reach), yaw)
-            clearance = _folded_clearance(scene, q, ignore)
-            if clearance < BASE_CLEARANCE:
+            if not _folded_clear(scene, q, ignore):
                 continue
+            clearance = _folded_clearance(scene, q, ignore)
             if arm_map is not None:
                 seed = arm_map.seed(local[None])[0]
                 _set_arm(scene, q, hand_posture(seed, to_base @ approach, to_base @ closing))
@@ -122,6 +122,21 @@ def place_base(
             if len(placements) == most:
                 return placements
     return placements
+
+
+def _mapped_reaches(arm_map: ArmEffectivity | None, height: float):
+    """The candidate reaches (m) nearest PREFERRED_REACH first, those the map holds at the
+    palm's `height`, and the palm at each in the base frame (n, 3): the map asked once for
+    them all, as one at a time it cost more than the clearance queries. Without a map,
+    PREFERRED_REACH alone."""
+    reaches = np.array([PREFERRED_REACH] if arm_map is None else sorted(
+        REACHES, key=lambda reach: abs(reach - PREFERRED_REACH)))  # fmt: skip
+    palms = np.column_stack([reaches, np.full(len(reaches), ARM_FLEX_ORIGIN[1]),
+                             np.full(len(reaches), height)])  # fmt: skip
+    if arm_map is None:
+        return reaches, palms
+    mapped = arm_map.reachable(palms)
+    return reaches[mapped], palms[mapped]
 
 
 def _at_base(scene: PlanningScene, q_now: np.ndarray, xy: np.ndarray, yaw: float) -> np.ndarray:
@@ -144,8 +159,35 @@ def _set_arm(scene: PlanningScene, q: np.ndarray, arm: np.ndarray) -> None:
     q[scene.index(TORSO_JOINT)] = 0.5 * arm[0]
 
 
-def _folded_clearance(scene: PlanningScene, q: np.ndarray, ignore: tuple[str, ...]) -> float:
-    """The robot's clearance at q's base with the arm straight up (folded over the base)."""
+def _folded_clear(scene: PlanningScene, q: np.ndarray, ignore: tuple[str, ...]) -> bool:
+    """Whether the robot at q's base with the arm folded keeps BASE_CLEARANCE from everything:
+    asked only within that distance, as most candidates are not clear (a handover pose
+    tries about 150) and a query of all within NEAR cost several times as much."""
+    if _in_table(scene, q, ignore):
+        return False
+    folded = _folded(scene, q)
+    return scene.clearance_at(folded, ignore, within=BASE_CLEARANCE) >= BASE_CLEARANCE
+
+
+def _in_table(scene: PlanningScene, q: np.ndarray, ignore: tuple[str, ...]) -> bool:
+    """Whether the base disc at q's x, y comes within BASE_CLEARANCE of the table's block (the
+    block rising above the disc, the table not ignored): then no distance query is needed to
+    rule it out. Most of a handover pose's candidates stand in the table behind the seated
+    person, and a query that finds the robot inside the table costs the most."""
+    table = scene.scene.table
+    if table is None or TABLE in ignore or table.height < BASE_DISC_TOP:
+        return False
+    xy = q[[scene.index(BASE_JOINTS[0]), scene.index(BASE_JOINTS[1])]]
+    outside = np.maximum(np.abs(table.to_local(xy)) - (table.size / 2 + TABLE_MARGIN), 0.0)
+    return float(np.hypot(*outside)) < BASE_DISC_RADIUS + BASE_CLEARANCE
+
+
+def _folded(scene: PlanningScene, q: np.ndarray) -> np.ndarray:
     folded = q.copy()
     _set_arm(scene, folded, np.zeros(len(ARM_JOINTS)))
-    return scene.clearance_at(folded, ignore)
+    return folded
+
+
+def _folded_clearance(scene: PlanningScene, q: np.ndarray, ignore: tuple[str, ...]) -> float:
+    """The robot's clearance at q's base with the arm straight up (folded over the base)."""
+    return scene.clearance_at(_folded(scene, q), ignore)

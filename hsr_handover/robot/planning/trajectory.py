@@ -106,7 +106,7 @@ def start_contact(
 ) -> StartContact:
     """The obstacles (but those in `ignore`) that the HSR at `q_start` is within
     COLLISION_BOUND of."""
-    near = {name: d for name, d in scene.clearances_at(q_start, ignore).items()
+    near = {name: d for name, d in scene.clearances_at(q_start, ignore, COLLISION_BOUND).items()
             if d < COLLISION_BOUND}  # fmt: skip
     if not near:
         return StartContact()

@@ -66,7 +66,8 @@ def _dip(scene, path, ignore, contact: StartContact, spot: float, target: Target
     name = "" if target is None else target.name
     seen = tuple(other for other in ignore if other != name)
     t = path.start_time() + spot * (path.end_time() - path.start_time())
-    clearances = scene.clearances_at(path.value(t).ravel(), seen)
+    # Every bound is at most COLLISION_BOUND: an obstacle farther than that dips nowhere.
+    clearances = scene.clearances_at(path.value(t).ravel(), seen, within=COLLISION_BOUND)
     to_target = clearances.pop(name, math.inf)
     dip = contact.dip(clearances, spot)
     return dip if target is None else max(dip, target.bound - to_target)

@@ -384,3 +384,26 @@ def test_an_object_is_put_back_the_way_it_came_and_lowered_onto_its_place(scene,
     assert scene.clearances_at(off.goal)["red"] >= COLLISION_BOUND
     clear = plan_back_off(scene, off.goal, limits, "red")
     assert clear.ok and clear.motions == ()
+
+
+def test_a_base_ruled_out_in_the_table_is_not_clear(scene):
+    """`_in_table` rules a base out without a distance query only where the folded robot
+    is nearer the table than BASE_CLEARANCE: over a grid of bases round the table, the
+    query agrees wherever it rules one out, and it rules out bases inside the table and just
+    beside it."""
+    q_ready = _ready(scene)
+    x, y = (scene.index(joint) for joint in BASE_JOINTS[:2])
+    ruled_out = 0
+    for bx in np.linspace(0.2, 1.5, 27):
+        for by in np.linspace(-0.9, 0.9, 19):
+            q = q_ready.copy()
+            q[x], q[y] = bx, by
+            if base_placement._in_table(scene, q, ()):
+                ruled_out += 1
+                folded = base_placement._folded_clearance(scene, q, ())
+                assert folded < base_placement.BASE_CLEARANCE
+    assert ruled_out > 100
+    q = q_ready.copy()
+    q[x], q[y] = 0.845 - 0.3 - 0.01 - base_placement.BASE_DISC_RADIUS - 0.02, 0.0
+    assert base_placement._in_table(scene, q, ())
+    assert not base_placement._in_table(scene, q, ("table",))
