@@ -38,7 +38,7 @@ from hsr_handover.robot.planning.planner import (
     plan_handover,
     plan_put_back,
 )
-from hsr_handover.robot.planning.planning_scene import PlanningScene
+from hsr_handover.robot.planning.planning_scene import TABLE_MARGIN, PlanningScene
 from hsr_handover.robot.planning.timing import joint_limits
 from hsr_handover.robot.planning.trajectory import (
     COLLISION_BOUND,
@@ -403,7 +403,11 @@ def test_a_base_ruled_out_in_the_table_is_not_clear(scene):
                 folded = base_placement._folded_clearance(scene, q, ())
                 assert folded < base_placement.BASE_CLEARANCE
     assert ruled_out > 100
+    # The base disc 2 cm from the table's near edge (its planning solid widened by
+    # TABLE_MARGIN): well within BASE_CLEARANCE.
+    table = scene.scene.table
+    near_edge = table.center[0] - table.size[0] / 2 - TABLE_MARGIN
     q = q_ready.copy()
-    q[x], q[y] = 0.845 - 0.3 - 0.01 - base_placement.BASE_DISC_RADIUS - 0.02, 0.0
+    q[x], q[y] = near_edge - base_placement.BASE_DISC_RADIUS - 0.02, table.center[1]
     assert base_placement._in_table(scene, q, ())
     assert not base_placement._in_table(scene, q, ("table",))
