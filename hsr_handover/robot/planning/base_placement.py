@@ -46,12 +46,10 @@ VERTICAL = 0.3  # an approach whose horizontal part is shorter than this is vert
 @dataclasses.dataclass(frozen=True)
 class BasePlacement:
     """A full configuration `q` (plant positions) with the base at a candidate pose and the arm
-    at its seed; `reach` (m) of the palm ahead of the base, `clearance` (m) of the folded robot
-    there."""
+    at its seed; `reach` (m) of the palm ahead of the base."""
 
     q: np.ndarray
     reach: float
-    clearance: float
 
 
 def base_yaws(approach: np.ndarray, toward: np.ndarray, turned: bool = False) -> list[float]:
@@ -114,11 +112,10 @@ def place_base(
             q = _at_base(scene, q_now, base_pose(palm, yaw, reach), yaw)
             if not _folded_clear(scene, q, ignore):
                 continue
-            clearance = _folded_clearance(scene, q, ignore)
             if arm_map is not None:
                 seed = arm_map.seed(local[None])[0]
                 _set_arm(scene, q, hand_posture(seed, to_base @ approach, to_base @ closing))
-            placements.append(BasePlacement(q, float(reach), clearance))
+            placements.append(BasePlacement(q, float(reach)))
             if len(placements) == most:
                 return placements
     return placements
@@ -186,8 +183,3 @@ def _folded(scene: PlanningScene, q: np.ndarray) -> np.ndarray:
     folded = q.copy()
     _set_arm(scene, folded, np.zeros(len(ARM_JOINTS)))
     return folded
-
-
-def _folded_clearance(scene: PlanningScene, q: np.ndarray, ignore: tuple[str, ...]) -> float:
-    """The robot's clearance at q's base with the arm straight up (folded over the base)."""
-    return scene.clearance_at(_folded(scene, q), ignore)

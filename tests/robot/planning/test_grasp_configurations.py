@@ -400,7 +400,7 @@ def test_a_base_ruled_out_in_the_table_is_not_clear(scene):
             q[x], q[y] = bx, by
             if base_placement._in_table(scene, q, ()):
                 ruled_out += 1
-                folded = base_placement._folded_clearance(scene, q, ())
+                folded = scene.clearance_at(base_placement._folded(scene, q))
                 assert folded < base_placement.BASE_CLEARANCE
     assert ruled_out > 100
     # The base disc 2 cm from the table's near edge (its planning solid widened by
