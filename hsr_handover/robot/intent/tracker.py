@@ -230,9 +230,9 @@ class IntentTracker:
         pitch cannot: an arm held out to receive can pass 19 cm from the cup beside the box in
         the hand, the eyes 1 degree across from the box and 17 from the cup, read 9-13 degrees
         below the box through the realistic detector's face. Across decides only by more than
-        HELD_ACROSS_MARGIN_DEG: a carried cup passing 4.9 degrees across from the eyes on a box
-        5.0 degrees across, 19 below the cup and 5 below the box, is not watched. The price: a
-        correction whose eyes pass that near the object held is not read."""
+        HELD_ACROSS_MARGIN_DEG: eyes 4.9 degrees across from a cup carried past them and 5.0
+        from the box asked for, 19 below the cup and 5 below the box, are on the box. The
+        price: a correction whose eyes pass that near the object held is not read."""
         if held is None or gaze is None:
             return False
         across, across_asked = bearing_errors_deg(gaze, np.array([held, asked]))

@@ -160,11 +160,11 @@ def optimize_path(
     where it starts (gaze aims it, not plans), so a goal's head is taken as the start's: a
     goal kept from an earlier plan (the lift's end, put back to) has the head of its time,
     which no path holding the head could reach."""
-    held = [scene.index(joint) for joint in HEAD_JOINTS]
+    head = [scene.index(joint) for joint in HEAD_JOINTS]
     q_goal = q_goal.copy()
-    q_goal[held] = q_start[held]
+    q_goal[head] = q_start[head]
     guess = straight_guess(q_start, q_goal) if guess is None else guess.copy()
-    guess[held] = q_start[held, None]
+    guess[head] = q_start[head, None]
     contact = start_contact(scene, q_start, ignore)
     # A context that sees the target alone, made before the target is ignored with the rest.
     alone = None if target is None else scene.ignoring_context(_all_but(scene, (target.name,)))
