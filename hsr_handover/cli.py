@@ -1,8 +1,9 @@
 """The `hsr-handover` command.
 
 Errors in what the user gave (a broken scenario, a bad argument, an unwritable output path)
-print one line `error: ...` and exit 2 without writing anything; a failure during the
-simulation prints one line and exits 1. No tracebacks: `--debug` shows them.
+print one line `error: ...` and exit 2 without writing anything; a simulation whose physics
+cannot go on reports what it did and exits 3 (`EXIT_SIMULATION_FAILED`); anything else is an
+internal error, exit 1. No tracebacks: `--debug` shows them.
 """
 
 from __future__ import annotations
@@ -321,11 +322,23 @@ def _run(args: argparse.Namespace) -> int:
         report = run_scenario(scenario, replay=replay, progress=SimulatedTimeBar(),
                               record=record, record_format=args.record_format)  # fmt: skip
     except SimulationFailed as failed:
+        _write_trajectories(args, failed.report, trajectories)
         _print_run(args, failed.report, record, trajectories)
         print(f"simulation:  failed {failed}", file=sys.stderr)
         return EXIT_SIMULATION_FAILED
+    _write_trajectories(args, report, trajectories)
     _print_run(args, report, record, trajectories)
     return 0
+
+
+def _write_trajectories(args: argparse.Namespace, report, trajectories: Path | None) -> None:
+    """The robot's planned motions to `trajectories` (written whole), before anything is
+    printed: a write that fails leaves no report half printed."""
+    if trajectories is not None:
+        from hsr_handover.recording.trajectory_json import write_trajectories
+
+        write_together({trajectories: lambda path: write_trajectories(
+            path, report.commanded, str(args.scenario))})  # fmt: skip
 
 
 def _print_run(args: argparse.Namespace, report, record: Path | None, trajectories: Path | None):
@@ -338,10 +351,6 @@ def _print_run(args: argparse.Namespace, report, record: Path | None, trajectori
         kind = "" if args.record_format == "folder" else f" ({args.record_format} bag)"
         print(f"recorded:    {record}{kind}")
     if trajectories is not None:
-        from hsr_handover.recording.trajectory_json import write_trajectories
-
-        write_together({trajectories: lambda path: write_trajectories(
-            path, report.commanded, str(args.scenario))})  # fmt: skip
         print(f"trajectories: {trajectories} ({len(report.commanded)} motions)")
     if report.intent is not None:
         print(f"intent:      {_recognised(report.intent.target, report.intent.recognised_time)}")

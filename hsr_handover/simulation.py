@@ -154,7 +154,7 @@ def build_simulation(
 def session_settings(scenario: Scenario) -> dict:
     """What a recorded session keeps of the scenario it was recorded in: the robot's perception
     and intent settings and the seed, as a scenario file's sections
-    (`offline_intent.perceive_session` reads them)."""
+    (`offline_intent.perceive` reads them)."""
     perception = dataclasses.asdict(scenario.perception)
     for key in PERCEPTION_NOT_IN_SESSION:
         perception.pop(key)
@@ -170,7 +170,7 @@ def _add_session_recorder(
     builder: DiagramBuilder, station: Diagram, scenario: Scenario, directory: Path
 ) -> None:
     """Record the camera's frames and the pose detector's skeletons (`rgbd_session`), with the
-    settings the robot perceives with, for `offline_intent.perceive_session`."""
+    settings the robot perceives with, for `offline_intent.perceive`."""
     start_session(directory, scenario.camera.pinhole(), session_settings(scenario))
     recorder = builder.AddNamedSystem(
         "session_recorder", SessionRecorder(directory, 1.0 / scenario.camera.rate_hz)

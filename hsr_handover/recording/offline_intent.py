@@ -22,7 +22,7 @@ from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import DiagramBuilder
 
 from hsr_handover.recording.recorded_session import RecordedSession
-from hsr_handover.recording.rgbd_session import SESSION, SessionError, read_session
+from hsr_handover.recording.rgbd_session import SESSION, SessionError
 from hsr_handover.recording.session_player import SessionPlayer
 from hsr_handover.robot.builder import build_robot
 from hsr_handover.robot.intent import IntentState
@@ -73,12 +73,6 @@ def _robot_scenario(session: RecordedSession) -> Scenario:
     scenario.perception.attention, scenario.perception.skeleton_recording = [], None
     scenario.perception.active_gaze = False  # a recording's head moved as it was recorded
     return scenario
-
-
-def perceive_session(directory: Path) -> OfflineIntent:
-    """Run the robot's perception and intent estimator over a session folder; what it
-    recognised. Raises SessionError naming the file at fault."""
-    return perceive(read_session(Path(directory)))
 
 
 def perceive(session: RecordedSession) -> OfflineIntent:

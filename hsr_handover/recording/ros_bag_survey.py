@@ -221,9 +221,7 @@ class _Surveyor:
 
     def pair(self, color: TopicIndex, depth: TopicIndex) -> None:
         survey = self.survey
-        tolerance = (
-            self.tolerance if self.tolerance is not None else default_tolerance(color.stamps)
-        )
+        tolerance = self.tolerance_for(color)
         pairing = pair_stamps(color.stamps, depth.stamps, tolerance)
         survey.tolerance_s, survey.paired = tolerance, len(pairing.pairs)
         survey.unpaired_color = [color.stamps[i] for i in pairing.unpaired_first]
@@ -309,16 +307,18 @@ class _Surveyor:
                 else f"{self.bag.path}: {error}"
             )
             return None
-        stamps = np.asarray(index.stamps)
+        stamps, tolerance = np.asarray(index.stamps), self.tolerance_for(color)
         detections = []
         for stamp in color.stamps:
             k = nearest_index(stamps, stamp)
-            near = k >= 0 and abs(stamps[k] - stamp) <= self.tolerance_for(color)
+            near = k >= 0 and abs(stamps[k] - stamp) <= tolerance
             detections.append(followed[k] if near else Detection.missing(NO_SKELETON))
         survey.skeleton_frames = sum(d.status != NO_SKELETON for d in detections)
         return detections
 
     def tolerance_for(self, color: TopicIndex) -> float:
+        """The pairing tolerance (s): as given, else half the colour's median period (a median
+        over every stamp: asked once per survey step, not per image)."""
         return self.tolerance if self.tolerance is not None else default_tolerance(color.stamps)
 
     def settings(self) -> None:

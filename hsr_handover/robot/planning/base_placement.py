@@ -32,10 +32,11 @@ REACHES = np.arange(0.30, 0.66, 0.025)  # m, palm ahead of the base centre, the 
 PREFERRED_REACH = 0.47  # m: the arm about level, far from its limits
 BASE_CLEARANCE = 0.04  # m the folded-up robot keeps from every obstacle where it stands
 MAX_CANDIDATES = 4
-BASE_DISC_RADIUS, BASE_DISC_TOP = 0.215, 0.14
-"""m: a hair inside the HSR's base disc (hsrb.sdf: radius 0.218 round the base's x, y, from 1 to
-14 cm up). A base whose centre is nearer the perceived table's block (floor to top) than this
-plus BASE_CLEARANCE cannot keep BASE_CLEARANCE from it (`_in_table`)."""
+BASE_DISC_RADIUS = 0.215
+"""m: a hair inside the HSR's base disc (hsrb.sdf: radius 0.218 round the base's x, y, 1 to 14
+cm up, below any table the fit accepts). A base whose centre is nearer the perceived table's
+block (floor to top) than this plus BASE_CLEARANCE cannot keep BASE_CLEARANCE from it
+(`_in_table`)."""
 ROUND_TURNS_DEG = (90.0, -90.0, 45.0, -45.0, 135.0, -135.0, 180.0)
 """Headings a turned base tries for a vertical approach, from facing the object as it does
 from where the robot stands: square to that first (beside a table the robot faces), then
@@ -172,7 +173,7 @@ def _in_table(scene: PlanningScene, q: np.ndarray, ignore: tuple[str, ...]) -> b
     rule it out. Most of a handover pose's candidates stand in the table behind the seated
     person, and a query that finds the robot inside the table costs the most."""
     table = scene.scene.table
-    if table is None or TABLE in ignore or table.height < BASE_DISC_TOP:
+    if table is None or TABLE in ignore:
         return False
     xy = q[[scene.index(BASE_JOINTS[0]), scene.index(BASE_JOINTS[1])]]
     outside = np.maximum(np.abs(table.to_local(xy)) - (table.size / 2 + TABLE_MARGIN), 0.0)

@@ -169,7 +169,7 @@ def optimize_path(
     # A context that sees the target alone, made before the target is ignored with the rest.
     alone = None if target is None else scene.ignoring_context(_all_but(scene, (target.name,)))
     with scene.ignoring(ignore):
-        trajopt = _build(scene, q_start, q_goal, guess.shape[1])
+        trajopt = _build(scene, q_start, q_goal, guess.shape[1], head)
         constraints = _keep_clear(trajopt, scene, contact, samples)
         if alone is not None:
             root, context = alone
@@ -190,6 +190,7 @@ def _build(
     q_start: np.ndarray,
     q_goal: np.ndarray,
     control_points: int,
+    head: list[int],
 ):
     plant = scene.plant
     nq = plant.num_positions()
@@ -206,7 +207,6 @@ def _build(
     trajopt.AddPathPositionConstraint(q_goal, q_goal, 1)
     A, b = scene.couplings()
     points = trajopt.control_points()
-    held = [scene.index(joint) for joint in HEAD_JOINTS]
     # The fingers go where the gripper is commanded, not where a path would have them: left
     # free, the optimiser half shuts them to pass a table's edge that the open fingers then cut
     # 2 cm into. They stay between start and goal.
@@ -215,7 +215,7 @@ def _build(
     high = np.maximum(q_start[fingers], q_goal[fingers])
     for j in range(points.shape[1]):
         prog.AddLinearEqualityConstraint(A, b, points[:, j])
-        prog.AddBoundingBoxConstraint(q_start[held], q_start[held], points[held, j])
+        prog.AddBoundingBoxConstraint(q_start[head], q_start[head], points[head, j])
         prog.AddBoundingBoxConstraint(low, high, points[fingers, j])
     return trajopt
 
