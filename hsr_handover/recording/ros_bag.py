@@ -66,11 +66,8 @@ class RosBag:
             self._reader = AnyReader([self.path])
             self._reader.open()
         except Exception as error:  # rosbags' errors differ by format; any means "not a bag"
-            reason = (
-                str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__
-            )
             raise BagError(
-                f"{self.path}: expected a readable {self.format} bag: {reason}"
+                f"{self.path}: expected a readable {self.format} bag: {_reason(error)}"
             ) from None
         self._indices: dict[str, TopicIndex] = {}
 
@@ -99,6 +96,15 @@ class RosBag:
     def _connections(self, topic: str) -> list:
         return [c for c in self._reader.connections if c.topic == topic]
 
+    def _read(self, topic: str, **window):
+        """(connection, log time, raw bytes) of `topic`'s messages (in `window`: rosbags'
+        start, stop), a chunk that cannot be read being a BagError, not rosbags' own."""
+        try:
+            yield from self._reader.messages(connections=self._connections(topic), **window)
+        except Exception as error:
+            raise BagError(f"{self.path}: {topic}: expected readable messages: "
+                           f"{_reason(error)}") from None  # fmt: skip
+
     def _deserialize(self, topic: str, raw: bytes, msgtype: str):
         try:
             return self._reader.deserialize(raw, msgtype)
@@ -107,7 +113,7 @@ class RosBag:
 
     def messages(self, topic: str):
         """Every message of `topic`, deserialised, in the bag's order."""
-        for connection, _, raw in self._reader.messages(connections=self._connections(topic)):
+        for connection, _, raw in self._read(topic):
             yield self._deserialize(topic, raw, connection.msgtype)
 
     def index(self, topic: str, visit=None) -> TopicIndex:
@@ -119,7 +125,7 @@ class RosBag:
         if not connections:
             raise BagError(f"{self.path}: {topic}: expected the topic, it is not in the bag")
         stamps, log_times, ordinals, last = [], [], [], (None, -1)
-        for connection, log_time, raw in self._reader.messages(connections=connections):
+        for connection, log_time, raw in self._read(topic):
             message = self._deserialize(topic, raw, connection.msgtype)
             stamp = getattr(message, "header", None)
             stamps.append(stamp_seconds(stamp.stamp) if stamp is not None else log_time * 1e-9)
@@ -137,12 +143,16 @@ class RosBag:
     def message(self, index: TopicIndex, k: int):
         """Message k of an indexed topic, read again from the bag."""
         log_time, ordinal = index.log_times[k], index.ordinals[k]
-        found = self._reader.messages(
-            connections=self._connections(index.topic), start=log_time, stop=log_time + 1
-        )
+        found = self._read(index.topic, start=log_time, stop=log_time + 1)
         for position, (connection, _, raw) in enumerate(found):
             if position == ordinal:
                 return self._deserialize(index.topic, raw, connection.msgtype)
         raise BagError(
             f"{self.path}: {index.topic}: expected message {k}, it could not be read again"
         )
+
+
+def _reason(error: Exception) -> str:
+    """The first line of a library's error, or its type's name when it says nothing."""
+    text = str(error).strip()
+    return text.splitlines()[0] if text else type(error).__name__

@@ -232,3 +232,17 @@ def test_bag_options_are_refused_for_a_session_folder(tmp_path, capsys):
     assert line == f"error: --tolerance: expected a bag, {tmp_path} is a folder"
     line = _refused(capsys, ["intent", str(tmp_path), "--tolerance", "-1"])
     assert line == "error: --tolerance: expected a positive number of seconds, got -1.0"
+
+
+def test_a_bag_whose_messages_cannot_be_read_is_refused_with_one_line(tmp_path, capsys):
+    """A ROS 1 bag that opens but whose chunk is overwritten half way: rosbags fails while
+    reading its messages, which is the bag's fault (exit 2), not an internal error."""
+    path = build_bag(tmp_path, "ros1", BagSpec())
+    data = bytearray(path.read_bytes())
+    middle = len(data) // 2
+    data[middle : middle + 64] = b"\xff" * 64
+    path.write_bytes(bytes(data))
+    output = tmp_path / "out.json"
+    line = _refused(capsys, ["intent", str(path), "--json", str(output)])
+    assert line.startswith(f"error: {path}: ") and "expected readable messages" in line, line
+    assert not output.exists()
