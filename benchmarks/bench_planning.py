@@ -305,7 +305,9 @@ def exhaustive(rng: np.random.Generator):
     it."""
     solve_ik = inverse_kinematics.solve_palm_ik
     place = grasp_configurations.place_base
-    patches = [(solving, "ITERATION_LIMIT", EXHAUSTIVE["iterations"]),
+    longer = {name: dataclasses.replace(getattr(solving, name), iterations=EXHAUSTIVE["iterations"])
+              for name in ("IK_EFFORT", "PATH_EFFORT")}  # fmt: skip
+    patches = [*((solving, name, effort) for name, effort in longer.items()),
                (paths, "_guesses", _with_vias(paths._guesses, rng))]  # fmt: skip
     for module in (grasp_configurations, handover_pose, follow, planner):
         if hasattr(module, "solve_palm_ik"):

@@ -4,15 +4,18 @@ provokes) at a point that satisfies every constraint. A planner needs a feasible
 certificate.
 
 SNOPT's default optimality tolerance (1e-6) spends most of a path's solve polishing a path
-that is already feasible and within about 1 % of its final duration: at OPTIMALITY_TOLERANCE
-the planning benchmark's grasps took 4x less optimisation for timed paths 1 % longer
-(the median plan time; docs/design.md §6 has it at the default). Feasibility is not loosened.
-A long carry round the table could take SNOPT 10 s or more to converge; after ITERATION_LIMIT
-major iterations its point is used if feasible, and the planner's next guess tried if not (the
-benchmark's handover p95 fell from 6.0 to 1.7 s with the same successes and durations).
+that is already feasible and within a few per cent of its final duration: at 1e-2 the planning
+benchmark's grasps took 4x less optimisation for timed paths 1 % longer (docs/design.md §6 has
+it at the default), and at PATH_EFFORT's 1e-1 its carries took half the time again for paths
+3 % longer. Feasibility is not loosened. A long carry round the table could take SNOPT 10 s or
+more to converge; after its major iterations limit its point is used if feasible, and the
+planner's next guess tried if not. Inverse kinematics keeps IK_EFFORT: a palm goal's solve is
+short, and at the paths' looser effort the back off lost most of its goals.
 """
 
 from __future__ import annotations
+
+import dataclasses
 
 import numpy as np
 from pydrake.solvers import (
@@ -24,16 +27,30 @@ from pydrake.solvers import (
 )
 
 FEASIBILITY_TOLERANCE = 1e-4  # of each constraint's bounds (m, rad, or the constraint's own units)
-OPTIMALITY_TOLERANCE = 1e-2  # SNOPT's "Major optimality tolerance"
-ITERATION_LIMIT = 150  # SNOPT's "Major iterations limit"
 
 
-def solve(prog: MathematicalProgram, guess: np.ndarray | None = None) -> MathematicalProgramResult:
-    """Drake's Solve (SNOPT for the planner's nonlinear programs) with OPTIMALITY_TOLERANCE and
-    ITERATION_LIMIT."""
+@dataclasses.dataclass(frozen=True)
+class Effort:
+    """How hard SNOPT works at one solve: its "Major optimality tolerance" and its "Major
+    iterations limit"."""
+
+    optimality: float
+    iterations: int
+
+
+IK_EFFORT = Effort(optimality=1e-2, iterations=150)
+PATH_EFFORT = Effort(optimality=1e-1, iterations=50)
+
+
+def solve(
+    prog: MathematicalProgram, guess: np.ndarray | None = None, effort: Effort | None = None
+) -> MathematicalProgramResult:
+    """Drake's Solve (SNOPT for the planner's nonlinear programs) at `effort` (IK_EFFORT when
+    None)."""
+    effort = IK_EFFORT if effort is None else effort
     options, snopt = SolverOptions(), SnoptSolver().solver_id()
-    options.SetOption(snopt, "Major optimality tolerance", OPTIMALITY_TOLERANCE)
-    options.SetOption(snopt, "Major iterations limit", ITERATION_LIMIT)
+    options.SetOption(snopt, "Major optimality tolerance", effort.optimality)
+    options.SetOption(snopt, "Major iterations limit", effort.iterations)
     return Solve(prog, guess, options)
 
 

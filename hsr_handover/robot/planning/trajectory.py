@@ -32,6 +32,7 @@ from pydrake.planning import KinematicTrajectoryOptimization
 from pydrake.trajectories import BsplineTrajectory
 
 from hsr_handover.hsr import BASE_JOINTS, GRIPPER_JOINT, GRIPPER_MIMIC_JOINT, HEAD_JOINTS
+from hsr_handover.robot.planning import solving
 from hsr_handover.robot.planning.outcome import Outcome
 from hsr_handover.robot.planning.planning_scene import HELD, PlanningScene
 from hsr_handover.robot.planning.solving import solve, solved
@@ -175,7 +176,7 @@ def optimize_path(
             root, context = alone
             constraints += [root, context, _keep_clear_of(trajopt, scene, target, context, samples)]
         trajopt.SetInitialGuess(BsplineTrajectory(trajopt.basis(), guess * 1.0))
-        result = solve(trajopt.prog())
+        result = solve(trajopt.prog(), effort=solving.PATH_EFFORT)
         usable = solved(trajopt.prog(), result)
         del constraints  # the solve is done; the constraints held the plant contexts
     if not usable:

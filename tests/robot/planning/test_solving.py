@@ -25,7 +25,7 @@ def test_solve_converges_to_the_optimum():
 
 
 def test_the_iteration_limit_stops_snopt_and_a_feasible_point_still_counts(monkeypatch):
-    monkeypatch.setattr(solving, "ITERATION_LIMIT", 2)
+    monkeypatch.setattr(solving, "IK_EFFORT", solving.Effort(1e-2, 2))
     prog, x = _rosenbrock()
     result = solving.solve(prog, np.array([-1.2, 1.0]))
     assert result.get_solution_result() == SolutionResult.kIterationLimit
@@ -33,7 +33,7 @@ def test_the_iteration_limit_stops_snopt_and_a_feasible_point_still_counts(monke
 
 
 def test_an_infeasible_point_does_not_count(monkeypatch):
-    monkeypatch.setattr(solving, "ITERATION_LIMIT", 1)
+    monkeypatch.setattr(solving, "IK_EFFORT", solving.Effort(1e-2, 1))
     prog, x = _rosenbrock()
     prog.AddLinearConstraint(x[0] + x[1] >= 2.5)
     result = solving.solve(prog, np.array([-1.5, -1.5]))
