@@ -16,6 +16,7 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
+from hsr_handover.error_text import first_line
 from hsr_handover.experiments.reporting import FIGURE_SUFFIXES
 from hsr_handover.output_files import write_together
 from hsr_handover.progress import ProgressBar
@@ -670,8 +671,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (RuntimeError, ValueError) as error:
         if args.debug:
             raise
-        first_line = str(error).strip().splitlines()[0] if str(error).strip() else type(error)
-        print(f"error: the simulation failed: {first_line}", file=sys.stderr)
+        print(f"error: the simulation failed: {first_line(error)}", file=sys.stderr)
         return EXIT_FAILED
     except KeyboardInterrupt:
         print("error: interrupted; no replay written", file=sys.stderr)

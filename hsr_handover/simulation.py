@@ -22,6 +22,7 @@ from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import Context, Diagram, DiagramBuilder, EventStatus
 
 from hsr_handover import interface
+from hsr_handover.error_text import first_line
 from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY
 from hsr_handover.interface.joint_trajectory import JointTrajectory
 from hsr_handover.recording.rgbd_session import PERCEPTION_NOT_IN_SESSION, start_session
@@ -329,7 +330,7 @@ def _simulate(
         try:
             simulator.AdvanceTo(now)
         except RuntimeError as error:  # the plant's solver gave up (NaN, no factorisation)
-            now, failure = simulator.get_context().get_time(), _first_line(error)
+            now, failure = simulator.get_context().get_time(), first_line(error)
             break
         if progress is not None:
             progress(now, duration)
@@ -345,11 +346,6 @@ def _simulate(
     if failure is not None:
         raise SimulationFailed(report, failure)
     return report
-
-
-def _first_line(error: BaseException) -> str:
-    text = str(error).strip()
-    return text.splitlines()[0] if text else type(error).__name__
 
 
 class SimulationFailed(RuntimeError):

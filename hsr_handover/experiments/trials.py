@@ -22,6 +22,7 @@ from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from typing import Any
 
+from hsr_handover.error_text import first_line
 from hsr_handover.progress import ProgressBar
 
 Progress = Callable[[int, int, int], None]
@@ -290,7 +291,7 @@ def _run_on_ray(
         try:
             ray.init(address=address)
         except ConnectionError as exc:
-            reason = (str(exc).strip() or type(exc).__name__).splitlines()[0]
+            reason = first_line(exc)
             message = f"--ray-address: no Ray cluster at {address}: {reason}"
             raise ClusterUnavailable(message) from exc
     try:

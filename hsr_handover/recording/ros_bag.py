@@ -10,6 +10,7 @@ from pathlib import Path
 import yaml
 from rosbags.highlevel import AnyReader
 
+from hsr_handover.error_text import first_line
 from hsr_handover.recording.rgbd_session import SessionError
 from hsr_handover.recording.ros_messages import stamp_seconds
 
@@ -67,7 +68,7 @@ class RosBag:
             self._reader.open()
         except Exception as error:  # rosbags' errors differ by format; any means "not a bag"
             raise BagError(
-                f"{self.path}: expected a readable {self.format} bag: {_reason(error)}"
+                f"{self.path}: expected a readable {self.format} bag: {first_line(error)}"
             ) from None
         self._indices: dict[str, TopicIndex] = {}
 
@@ -103,7 +104,7 @@ class RosBag:
             yield from self._reader.messages(connections=self._connections(topic), **window)
         except Exception as error:
             raise BagError(f"{self.path}: {topic}: expected readable messages: "
-                           f"{_reason(error)}") from None  # fmt: skip
+                           f"{first_line(error)}") from None  # fmt: skip
 
     def _deserialize(self, topic: str, raw: bytes, msgtype: str):
         try:
@@ -150,9 +151,3 @@ class RosBag:
         raise BagError(
             f"{self.path}: {index.topic}: expected message {k}, it could not be read again"
         )
-
-
-def _reason(error: Exception) -> str:
-    """The first line of a library's error, or its type's name when it says nothing."""
-    text = str(error).strip()
-    return text.splitlines()[0] if text else type(error).__name__

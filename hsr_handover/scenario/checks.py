@@ -24,6 +24,7 @@ from pydrake.multibody.plant import AddMultibodyPlantSceneGraph
 from pydrake.multibody.tree import ModelInstanceIndex
 from pydrake.systems.framework import DiagramBuilder
 
+from hsr_handover.error_text import first_line
 from hsr_handover.hsr import (
     ARM_JOINTS,
     BASE_JOINTS,
@@ -230,8 +231,7 @@ def robot_model_names(path: Path, mtime_ns: int, size: int) -> tuple[str, ...]:
             robot = add_hsr(plant, Parser(plant), path)
             plant.Finalize()  # actuators are indexed per model instance only then
     except (RuntimeError, ValueError) as error:
-        text = str(error).strip().removeprefix("error: ")
-        reason = text.splitlines()[0] if text else type(error).__name__
+        reason = first_line(error).removeprefix("error: ")
         raise ValueError(f"expected one SDF or URDF model that Drake parses ({reason})") from None
     actuated = set(actuated_joint_names(plant, robot))
     missing = [name for name in HSR_ACTUATED_JOINTS if name not in actuated]
