@@ -195,7 +195,7 @@ def plan_scene(spec: SceneSpec) -> list[dict]:
     unseeded; one record per plan."""
     scenario = scene_scenario(spec)
     watched = watch(scenario, WATCH_S, look_around=True)
-    perceived, measured = watched.percept("perceived_scene"), watched.measured_positions()
+    perceived, measured = watched.scene, watched.measured_positions()
     station = watched.simulation.station
     station_context = watched.simulation.station_context(watched.root)
     planning = PlanningScene(perceived)

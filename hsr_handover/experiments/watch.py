@@ -12,13 +12,16 @@ from pydrake.systems.framework import Context
 from hsr_handover.hsr import COMMANDED_JOINTS, HEAD_JOINTS
 from hsr_handover.robot.effectivity.person_map import HumanArm, receiving_arms
 from hsr_handover.robot.handover.look_round import LOOK_AROUND_PANS, LOOK_DWELL_S, LOOK_ROUND_TILT
+from hsr_handover.robot.handover.scene_memory import remember
 from hsr_handover.robot.perception.facing import steady_facing
 from hsr_handover.robot.perception.skeleton import Skeleton
+from hsr_handover.robot.planning.perceived_scene import PerceivedScene
 from hsr_handover.scenario import Scenario
 from hsr_handover.simulation import Simulation, prepare_simulation, start_replay
 
 WATCH_S = 3.5  # s of watching before planning: the look round (2.7 s), then a steady view
 RECENT_S, RECENT_STEP_S = 0.6, 0.1  # the skeletons kept of the watch's end, and how often
+SCENE_STEP_S = 0.1  # s between the perceived scenes remembered (the supervisor's tick)
 
 
 @dataclasses.dataclass
@@ -26,12 +29,16 @@ class Watched:
     """The simulation after watching, its `simulator` (keeps the contexts alive) and `root`
     context, the skeletons perceived at each stop of the look round (`glimpses`, oldest
     first) and every RECENT_STEP_S over the watch's last RECENT_S (`recent`, oldest first),
-    and the Meshcat recording the replay (None without one); `percept(name)` evaluates
-    one of the robot's perception outputs now."""
+    and the Meshcat recording the replay (None without one); `scene`, the perceived scene
+    with what the camera turned away from remembered, every SCENE_STEP_S, as the supervisor
+    keeps it (`scene_memory.remember`): what to plan in, for the last frame alone lacks what
+    the look round saw and the view back does not (an object at the table's end);
+    `percept(name)` evaluates one of the robot's perception outputs now."""
 
     simulation: Simulation
     simulator: Simulator
     root: Context
+    scene: PerceivedScene
     glimpses: tuple[Skeleton, ...] = ()
     meshcat: Meshcat | None = None
     recent: tuple[Skeleton, ...] = ()
@@ -74,28 +81,49 @@ def watch(
     simulator = Simulator(simulation.diagram)
     if meshcat is not None:
         start_replay(meshcat, scenario)
-    glimpses = _look_around(simulation, simulator) if look_around else ()
+    memory = _SceneMemory(simulation, simulator)
+    glimpses = _look_around(simulation, simulator, memory) if look_around else ()
     end = max(seconds, simulator.get_context().get_time())
     recent = []
     for k in range(round(RECENT_S / RECENT_STEP_S)):
         time = end - RECENT_S + k * RECENT_STEP_S
         if time > simulator.get_context().get_time():
-            simulator.AdvanceTo(time)
-            recent.append(_skeleton(simulation, simulator))
-    simulator.AdvanceTo(end)
-    return Watched(simulation, simulator, simulator.get_context(), glimpses, meshcat,
-                   tuple(recent))  # fmt: skip
+            memory.advance_to(time)
+            recent.append(_percept(simulation, simulator, "skeleton"))
+    memory.advance_to(end)
+    return Watched(simulation, simulator, simulator.get_context(), memory.scene, glimpses,
+                   meshcat, tuple(recent))  # fmt: skip
 
 
-def _skeleton(simulation: Simulation, simulator: Simulator) -> Skeleton:
+def _percept(simulation: Simulation, simulator: Simulator, name: str):
     robot_context = simulation.robot_context(simulator.get_context())
-    return simulation.robot.diagram.GetOutputPort("skeleton").Eval(robot_context)
+    return simulation.robot.diagram.GetOutputPort(name).Eval(robot_context)
 
 
-def _look_around(simulation: Simulation, simulator: Simulator) -> tuple[Skeleton, ...]:
+class _SceneMemory:
+    """Advances the simulator, remembering the perceived scene every SCENE_STEP_S on the way."""
+
+    def __init__(self, simulation: Simulation, simulator: Simulator):
+        self._simulation, self._simulator = simulation, simulator
+        self.scene: PerceivedScene | None = None
+
+    def advance_to(self, time: float) -> None:
+        """Advance to `time` (at least initialising the simulator), remembering on the way."""
+        while True:
+            step_end = self._simulator.get_context().get_time() + SCENE_STEP_S
+            self._simulator.AdvanceTo(min(time, step_end))
+            seen = _percept(self._simulation, self._simulator, "perceived_scene")
+            self.scene = remember(self.scene, seen)
+            if step_end >= time:
+                return
+
+
+def _look_around(
+    simulation: Simulation, simulator: Simulator, memory: _SceneMemory
+) -> tuple[Skeleton, ...]:
     """A stand-in for the supervisor's look round: the ready posture's head pan
     stepped through LOOK_AROUND_PANS with the head tilted to LOOK_ROUND_TILT, then back to
-    where it was; the skeleton perceived at the end of each stop."""
+    where it was (advanced by `memory`); the skeleton perceived at the end of each stop."""
     posture = simulation.robot.diagram.GetSubsystemByName("ready_posture")
     context = posture.GetMyMutableContextFromRoot(simulator.get_mutable_context())
     command = posture.get_mutable_source_value(context)
@@ -107,6 +135,6 @@ def _look_around(simulation: Simulation, simulator: Simulator) -> tuple[Skeleton
         value = command.get_value().copy()
         value[[pan, tilt]] = head
         command.set_value(value)
-        simulator.AdvanceTo(simulator.get_context().get_time() + LOOK_DWELL_S)
-        glimpses.append(_skeleton(simulation, simulator))
+        memory.advance_to(simulator.get_context().get_time() + LOOK_DWELL_S)
+        glimpses.append(_percept(simulation, simulator, "skeleton"))
     return tuple(glimpses)

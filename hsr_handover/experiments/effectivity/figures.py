@@ -80,7 +80,7 @@ def run_effectivity(
     arm_map, _ = load_or_build()
     at_nodes, at_random = palm_errors(arm_map)
     watched = watch(scenario, watch_s, look_around=True, replay=replay is not None)
-    scene = watched.percept("perceived_scene")
+    scene = watched.scene
     graph = watched.percept("gng_graph")
     arm = watched.person_arm()
     person, handover, status = None, None, "no person seen (both shoulders needed)"
