@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import contextlib
 import math
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 
 import numpy as np
 from pydrake.geometry import (
@@ -158,13 +158,20 @@ class PlanningScene:
             rows.append(row)
         return np.array(rows), np.zeros(len(rows))
 
+    def moving_parts(self) -> list[GeometryId]:
+        """The HSR's collision geometries and the object it holds, if any."""
+        return [*self._robot_ids, *self.geometry.get(HELD, [])]
+
     def _moving(self) -> GeometrySet:
-        """The HSR's geometry and the object it holds, if any."""
-        return GeometrySet([*self._robot_ids, *self.geometry.get(HELD, [])])
+        return GeometrySet(self.moving_parts())
+
+    def _obstacle_set(self, names: Iterable[str]) -> GeometrySet:
+        return GeometrySet([gid for name in names for gid in self.geometry.get(name, [])])
 
     def _excluding(self, names: Sequence[str]) -> CollisionFilterDeclaration:
-        ids = GeometrySet([gid for name in names for gid in self.geometry.get(name, [])])
-        return CollisionFilterDeclaration().ExcludeBetween(self._moving(), ids)
+        return CollisionFilterDeclaration().ExcludeBetween(
+            self._moving(), self._obstacle_set(names)
+        )
 
     @contextlib.contextmanager
     def ignoring(self, names: Sequence[str]) -> Iterator[None]:
@@ -187,6 +194,27 @@ class PlanningScene:
         scene_graph_context = self.scene_graph.GetMyMutableContextFromRoot(root)
         manager = self.scene_graph.collision_filter_manager(scene_graph_context)
         manager.ApplyTransient(self._excluding(names))  # the copy may hold transient ones
+        return root, self.plant.GetMyMutableContextFromRoot(root)
+
+    def pairs_context(
+        self, pairs: Iterable[tuple[GeometryId, str]], only: bool
+    ) -> tuple[Context, Context]:
+        """As `ignoring_context`, a copy of the scene's context that sees, of the (part,
+        obstacle) `pairs` (a part of `moving_parts` and an obstacle's name), only those pairs
+        (`only`) or everything but them."""
+        touching: dict[str, set[GeometryId]] = {}
+        for part, name in pairs:
+            touching.setdefault(name, set()).add(part)
+        declaration = CollisionFilterDeclaration()
+        if only:
+            others = [name for name in self.geometry if name not in touching and name != HELD]
+            declaration.ExcludeBetween(self._moving(), self._obstacle_set(others))
+        for name, parts in touching.items():
+            excluded = [p for p in self.moving_parts() if p not in parts] if only else parts
+            declaration.ExcludeBetween(GeometrySet(list(excluded)), self._obstacle_set([name]))
+        root = self.context.Clone()
+        scene_graph_context = self.scene_graph.GetMyMutableContextFromRoot(root)
+        self.scene_graph.collision_filter_manager(scene_graph_context).ApplyTransient(declaration)
         return root, self.plant.GetMyMutableContextFromRoot(root)
 
     @contextlib.contextmanager
@@ -284,6 +312,30 @@ class PlanningScene:
         nearest = min(distances, key=distances.get, default="")
         return distances.get(nearest, math.inf), nearest
 
+    def part_clearances_at(
+        self, q: np.ndarray, ignore: tuple[str, ...] = (), within: float = NEAR
+    ) -> dict[tuple[GeometryId, str], float]:
+        """`part_clearances` with the HSR put at `q` (plant positions)."""
+        self.plant.SetPositions(self.plant_context, q)
+        return self.part_clearances(ignore, within)
+
+    def part_clearances(
+        self, ignore: tuple[str, ...] = (), within: float = NEAR
+    ) -> dict[tuple[GeometryId, str], float]:
+        """`clearances` by (part, obstacle): the least signed distance between each of
+        `moving_parts` and each obstacle within `within` of each other."""
+        pairs = self.query().ComputeSignedDistancePairwiseClosestPoints(within)
+        distances: dict[tuple[GeometryId, str], float] = {}
+        for pair in pairs:
+            obstacle, part = self._owner.get(pair.id_A), pair.id_B
+            if obstacle is None:
+                obstacle, part = self._owner.get(pair.id_B), pair.id_A
+            if obstacle is None or obstacle in ignore:
+                continue
+            key = (part, obstacle)
+            distances[key] = min(pair.distance, distances.get(key, math.inf))
+        return distances
+
     def clearances_at(
         self, q: np.ndarray, ignore: tuple[str, ...] = (), within: float = NEAR
     ) -> dict[str, float]:
@@ -298,13 +350,7 @@ class PlanningScene:
         Drake then computes fewer pairs. The obstacles ignored are dropped from the pairs
         rather than filtered out of the query: a transient collision filter applied and
         removed per query cost a third of it, and the pairs left are the same."""
-        pairs = self.query().ComputeSignedDistancePairwiseClosestPoints(within)
         distances: dict[str, float] = {}
-        for pair in pairs:
-            obstacle = self._owner.get(pair.id_A) or self._owner.get(pair.id_B)
-            if obstacle is None or obstacle in ignore:
-                continue
-            distance = pair.distance
-            if distance < distances.get(obstacle, math.inf):
-                distances[obstacle] = distance
+        for (_, obstacle), distance in self.part_clearances(ignore, within).items():
+            distances[obstacle] = min(distance, distances.get(obstacle, math.inf))
         return distances

@@ -11,11 +11,13 @@ out from the joints) by much more, so the planner checks each path between its s
 A start that the perceived scene already puts nearer than the bound to some obstacles
 (perception errs toward bulk: a table's unseen end runs on, a person's unseen body is a column
 to the floor; a lift starts with the object on the table) would make every path infeasible;
-over the first ESCAPE_SHARE of such a path the samples need only stay as far from *those*
-obstacles as the start was, less ESCAPE_SLACK (`StartContact`). Every other obstacle keeps the
-bound all the way: a start in contact with one never licenses touching another (a carry that
-starts 7 cm inside the held box's second detection, under one allowance for every obstacle,
-could pass the box 7 cm through a neighbouring cup).
+over the first ESCAPE_SHARE of such a path the samples need only keep *those* parts of the HSR
+as far from *those* obstacles as the start was, less ESCAPE_SLACK (`StartContact`). Every other
+pair keeps the bound all the way: a start in contact never licenses touching another obstacle
+(a carry that starts 7 cm inside the held box's second detection, under one allowance for
+every obstacle, could pass the box 7 cm through a neighbouring cup) or the same obstacle with
+another part (a base started 6 cm inside the perceived table's block, under one allowance for
+the whole robot, swung the hand 5 cm into the table's top).
 
 A grasp's approach may touch the object it closes on, but only as its goal does (`Target`): no
 nearer to it anywhere on the way than the pads straddling it at the end.
@@ -27,6 +29,7 @@ import dataclasses
 import math
 
 import numpy as np
+from pydrake.geometry import GeometryId
 from pydrake.multibody.inverse_kinematics import MinimumDistanceLowerBoundConstraint
 from pydrake.planning import KinematicTrajectoryOptimization
 from pydrake.trajectories import BsplineTrajectory
@@ -61,26 +64,34 @@ class PathResult(Outcome):
     last: np.ndarray | None = None
 
 
+Pair = tuple[GeometryId, str]  # (one of PlanningScene.moving_parts, an obstacle's name)
+
+
 @dataclasses.dataclass(frozen=True)
 class StartContact:
-    """The obstacles a path's start lies nearer than COLLISION_BOUND to (`names`, none for a
-    clear start) and its least clearance (m) to them."""
+    """The (part, obstacle) pairs a path's start lies nearer than COLLISION_BOUND (none for a
+    clear start) and its least clearance (m) over them."""
 
-    names: tuple[str, ...] = ()
+    pairs: frozenset[Pair] = frozenset()
     clearance: float = COLLISION_BOUND
 
-    def bound(self, name: str, spot: float) -> float:
-        """The least distance (m) to keep from the obstacle `name` at `spot` (0 to 1) along
-        the path: COLLISION_BOUND, or for an obstacle the start touches, over the first
+    @property
+    def names(self) -> tuple[str, ...]:
+        """The obstacles touched, sorted."""
+        return tuple(sorted({name for _, name in self.pairs}))
+
+    def bound(self, pair: Pair, spot: float) -> float:
+        """The least distance (m) to keep between the (part, obstacle) `pair` at `spot` (0 to
+        1) along the path: COLLISION_BOUND, or for a pair the start touches, over the first
         ESCAPE_SHARE, the start's clearance less ESCAPE_SLACK."""
-        if name in self.names and spot <= ESCAPE_SHARE:
+        if pair in self.pairs and spot <= ESCAPE_SHARE:
             return self.clearance - ESCAPE_SLACK
         return COLLISION_BOUND
 
-    def dip(self, clearances: dict[str, float], spot: float) -> float:
-        """How far (m) the clearances by obstacle at `spot` come inside their bounds (negative
-        when all keep clear of them)."""
-        dips = (self.bound(name, spot) - d for name, d in clearances.items())
+    def dip(self, clearances: dict[Pair, float], spot: float) -> float:
+        """How far (m) the clearances by (part, obstacle) at `spot` come inside their bounds
+        (negative when all keep clear of them)."""
+        dips = (self.bound(pair, spot) - d for pair, d in clearances.items())
         return max(dips, default=-math.inf)
 
 
@@ -105,13 +116,13 @@ def approached_target(scene: PlanningScene, q_goal: np.ndarray, name: str) -> Ta
 def start_contact(
     scene: PlanningScene, q_start: np.ndarray, ignore: tuple[str, ...] = ()
 ) -> StartContact:
-    """The obstacles (but those in `ignore`) that the HSR at `q_start` is within
-    COLLISION_BOUND of."""
-    near = {name: d for name, d in scene.clearances_at(q_start, ignore, COLLISION_BOUND).items()
-            if d < COLLISION_BOUND}  # fmt: skip
+    """The (part, obstacle) pairs (but obstacles in `ignore`) that the HSR at `q_start` has
+    within COLLISION_BOUND of each other."""
+    clearances = scene.part_clearances_at(q_start, ignore, COLLISION_BOUND)
+    near = {pair: d for pair, d in clearances.items() if d < COLLISION_BOUND}
     if not near:
         return StartContact()
-    return StartContact(tuple(sorted(near)), min(near.values()))
+    return StartContact(frozenset(near), min(near.values()))
 
 
 def straight_guess(q_start: np.ndarray, q_goal: np.ndarray, count: int = CONTROL_POINTS):
@@ -237,8 +248,8 @@ def _keep_clear_of(trajopt, scene: PlanningScene, target: Target, context, sampl
 
 def _keep_clear(trajopt, scene: PlanningScene, contact: StartContact, samples: int) -> list:
     """Keep the path at `samples` evenly spaced points clear of the scene by COLLISION_BOUND,
-    and of the obstacles its start touches (`contact`) by their StartContact bounds (each
-    constraint in a context that sees only its obstacles); the objects to keep alive through
+    and the (part, obstacle) pairs its start touches (`contact`) by their StartContact bounds
+    (each constraint in a context that sees only its pairs); the objects to keep alive through
     the solve."""
     plant, spots = scene.plant, np.linspace(0.0, 1.0, samples)
 
@@ -247,10 +258,10 @@ def _keep_clear(trajopt, scene: PlanningScene, contact: StartContact, samples: i
 
     everything = lower_bound(COLLISION_BOUND, scene.plant_context)
     alive, escape = [everything], (everything,)
-    if contact.names:
-        touched_root, touched = scene.ignoring_context(_all_but(scene, contact.names))
-        rest_root, rest = scene.ignoring_context(contact.names)
-        escape = (lower_bound(contact.bound(contact.names[0], 0.0), touched),
+    if contact.pairs:
+        touched_root, touched = scene.pairs_context(contact.pairs, only=True)
+        rest_root, rest = scene.pairs_context(contact.pairs, only=False)
+        escape = (lower_bound(contact.clearance - ESCAPE_SLACK, touched),
                   lower_bound(COLLISION_BOUND, rest))  # fmt: skip
         alive += [touched_root, rest_root, touched, rest, *escape]
     for spot in spots:

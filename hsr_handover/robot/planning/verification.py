@@ -37,7 +37,7 @@ def path_dips(
     target: Target | None = None,
 ) -> np.ndarray:
     """How far (m) a path (`value(t)`, `start_time()`, `end_time()`) from a start touching
-    `contact` comes inside its bounds (StartContact.bound, by obstacle; the `target`'s own,
+    `contact` comes inside its bounds (StartContact.bound, by part and obstacle; the `target`'s own,
     though it is one of `ignore`) at `samples` evenly spaced times; negative where it keeps
     clear of them all."""
     spots = np.linspace(0.0, 1.0, samples)
@@ -67,9 +67,11 @@ def _dip(scene, path, ignore, contact: StartContact, spot: float, target: Target
     seen = tuple(other for other in ignore if other != name)
     t = path.start_time() + spot * (path.end_time() - path.start_time())
     # Every bound is at most COLLISION_BOUND: an obstacle farther than that dips nowhere.
-    clearances = scene.clearances_at(path.value(t).ravel(), seen, within=COLLISION_BOUND)
-    to_target = clearances.pop(name, math.inf)
-    dip = contact.dip(clearances, spot)
+    clearances = scene.part_clearances_at(path.value(t).ravel(), seen, within=COLLISION_BOUND)
+    to_target = min((d for (_, obstacle), d in clearances.items() if obstacle == name),
+                    default=math.inf)  # fmt: skip
+    others = {pair: d for pair, d in clearances.items() if pair[1] != name}
+    dip = contact.dip(others, spot)
     return dip if target is None else max(dip, target.bound - to_target)
 
 

@@ -1,19 +1,21 @@
-"""A path from a start already nearer than the bound: only the obstacles the
-start touches may stay that near over the path's first stretch; every other keeps the bound
-(a carry starting inside the held box's second detection would pass it 7 cm through a
-neighbouring cup under one allowance for all)."""
+"""A path from a start already nearer than the bound: only the parts of the HSR and the
+obstacles the start touches may stay that near over the path's first stretch; every other pair
+keeps the bound (a carry starting inside the held box's second detection would pass it 7 cm
+through a neighbouring cup under one allowance for all, and a base started inside the table's
+block swung the hand into the table's top under one allowance for the whole robot)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
+from pydrake.geometry import GeometryId
 
 from hsr_handover.hsr import BASE_JOINTS
 from hsr_handover.robot.perception.object_shapes import CYLINDER, ObjectShape
 from hsr_handover.robot.planning import trajectory
 from hsr_handover.robot.planning.paths import find_path
 from hsr_handover.robot.planning.perceived_scene import PerceivedScene
-from hsr_handover.robot.planning.planning_scene import PlanningScene
+from hsr_handover.robot.planning.planning_scene import NEAR, PlanningScene
 from hsr_handover.robot.planning.trajectory import (
     COLLISION_BOUND,
     ESCAPE_SHARE,
@@ -60,24 +62,51 @@ def _least(scene, path, name: str, until: float = 1.0) -> float:
     return min(scene.clearances_at(path.value(t).ravel()).get(name, np.inf) for t in times)
 
 
-def test_the_allowance_is_for_the_obstacles_touched_and_the_first_stretch():
-    contact = StartContact(("table",), -0.04)
-    assert contact.bound("table", 0.0) == pytest.approx(-0.04 - ESCAPE_SLACK)
-    assert contact.bound("table", ESCAPE_SHARE) == pytest.approx(-0.04 - ESCAPE_SLACK)
-    assert contact.bound("table", ESCAPE_SHARE + 0.01) == COLLISION_BOUND
-    assert contact.bound("cup", 0.0) == COLLISION_BOUND
-    # 3 cm into the table at the start is within its allowance; 1 cm near the cup is not.
-    assert contact.dip({"table": -0.03, "cup": 0.05}, 0.1) < 0
-    assert contact.dip({"table": -0.03, "cup": 0.01}, 0.1) == pytest.approx(COLLISION_BOUND - 0.01)
+def test_the_allowance_is_for_the_pairs_touched_and_the_first_stretch():
+    base, hand = GeometryId.get_new_id(), GeometryId.get_new_id()
+    contact = StartContact(frozenset({(base, "table")}), -0.04)
+    assert contact.names == ("table",)
+    assert contact.bound((base, "table"), 0.0) == pytest.approx(-0.04 - ESCAPE_SLACK)
+    assert contact.bound((base, "table"), ESCAPE_SHARE) == pytest.approx(-0.04 - ESCAPE_SLACK)
+    assert contact.bound((base, "table"), ESCAPE_SHARE + 0.01) == COLLISION_BOUND
+    assert contact.bound((base, "cup"), 0.0) == COLLISION_BOUND
+    assert contact.bound((hand, "table"), 0.0) == COLLISION_BOUND
+    # 3 cm into the table at the start is within the base's allowance; 1 cm near the cup is
+    # not, nor the hand 1 cm into the table.
+    assert contact.dip({(base, "table"): -0.03, (base, "cup"): 0.05}, 0.1) < 0
+    near_cup = {(base, "table"): -0.03, (base, "cup"): 0.01}
+    assert contact.dip(near_cup, 0.1) == pytest.approx(COLLISION_BOUND - 0.01)
+    hand_in = {(base, "table"): -0.03, (hand, "table"): -0.01}
+    assert contact.dip(hand_in, 0.1) == pytest.approx(COLLISION_BOUND + 0.01)
     assert contact.dip({}, 0.1) == -np.inf
-    assert StartContact().bound("table", 0.0) == COLLISION_BOUND
+    assert StartContact().bound((base, "table"), 0.0) == COLLISION_BOUND
 
 
-def test_a_start_names_what_it_touches(scene, start):
+def test_a_start_names_what_it_touches_and_with_which_parts(scene, start):
     contact = start_contact(scene, start)
     assert contact.names == ("beside",)
     assert contact.clearance == pytest.approx(TOUCHING, abs=1e-4)
     assert start_contact(scene, start, ignore=("beside",)) == StartContact()
+    inspector = scene.scene_graph.model_inspector()
+    bodies = {scene.plant.GetBodyFromFrameId(inspector.GetFrameId(part)).name()
+              for part, _ in contact.pairs}  # fmt: skip
+    assert bodies == {"base_link"}  # the base slid into it; the arm is clear
+
+
+def test_the_constraints_see_only_the_pairs_touched_or_all_but_them(scene, start):
+    contact = start_contact(scene, start)
+    owner = {gid: name for name, ids in scene.geometry.items() for gid in ids}
+    everything = set(scene.part_clearances_at(start))
+    seen = {}
+    for only in (True, False):
+        root, context = scene.pairs_context(contact.pairs, only)
+        query = scene.plant.get_geometry_query_input_port().Eval(context)
+        pairs = query.ComputeSignedDistancePairwiseClosestPoints(NEAR)
+        seen[only] = {(p.id_B, owner[p.id_A]) if p.id_A in owner else (p.id_A, owner[p.id_B])
+                      for p in pairs}  # fmt: skip
+        del root
+    assert seen[True] == set(contact.pairs)
+    assert seen[False] == everything - set(contact.pairs)
 
 
 def test_a_start_touching_one_obstacle_never_licenses_another(scene, start):
@@ -98,7 +127,8 @@ def test_one_allowance_for_every_obstacle_would_cut_through_the_one_ahead(
 ):
     """The scene discriminates: granted to both pillars, the start's allowance lets the
     shortest path clip the pillar ahead."""
-    both = StartContact(("ahead", "beside"), TOUCHING)
+    both = StartContact(frozenset((part, name) for part in scene.moving_parts()
+                                  for name in ("ahead", "beside")), TOUCHING)  # fmt: skip
     monkeypatch.setattr(trajectory, "start_contact", lambda *_: both)
     result = optimize_path(scene, start, _goal(scene, start))
     assert result.ok, result.reason
