@@ -20,6 +20,7 @@ _RANGES = {  # (low, high, unit, whether low itself is allowed)
     "bent_gap_s": (0.0, 10.0, "s", True), "pitch_smoothing_s": (0.0, 10.0, "s", True),
     "correction_gaze_tolerance_deg": (0.0, 90.0, "deg", False),
     "correction_below_deg": (0.0, 90.0, "deg", False),
+    "held_across_margin_deg": (0.0, 90.0, "deg", True),
 }  # fmt: skip
 
 
@@ -71,6 +72,11 @@ class IntentParams:
     correction_below_deg: how far (deg) the eyes may look below the object a correction asks
     for: a hand held out to receive is a straight arm toward the table, and the eyes on it
     look 14-16 degrees below the objects beyond.
+    held_across_margin_deg: by how much (deg) the eyes' bearing must pass nearer the object
+    held than the one a new gesture asks for before across alone says they watch the held
+    one (`IntentTracker._on_held`): the gaze read from the realistic detector's face errs
+    about 6 degrees across (docs/perception.md), so a nearer bearing by less is no evidence,
+    and the pitch decides.
     track_keypoints: follow each keypoint over time before reading the rays
     (`robot.perception.keypoint_filter`: smoothed, outliers and swapped arms rejected, short
     misses bridged).
@@ -93,6 +99,7 @@ class IntentParams:
     bent_gap_s: float = 0.2
     correction_gaze_tolerance_deg: float = 24.0
     correction_below_deg: float = 10.0
+    held_across_margin_deg: float = 6.0
     track_keypoints: bool = True
 
     def __post_init__(self) -> None:

@@ -52,11 +52,6 @@ from hsr_handover.robot.perception.keypoint_filter import KeypointFilter
 HELD_MOVED_M = 0.04
 """m the target must be seen from where it stood to count as lifted into the robot's hand (the
 centre of a detected object wanders 1-2 cm between frames)."""
-HELD_ACROSS_MARGIN_DEG = 6.0
-"""deg by which the eyes' bearing must pass nearer the object held than the one a new gesture
-asks for before across alone says they watch the held one: the gaze read from the realistic
-detector's face errs about 6 degrees across (docs/perception.md), so a nearer bearing by less
-is no evidence, and the pitch decides."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -230,7 +225,7 @@ class IntentTracker:
         pitch cannot: an arm held out to receive can pass 19 cm from the cup beside the box in
         the hand, the eyes 1 degree across from the box and 17 from the cup, read 9-13 degrees
         below the box through the realistic detector's face. Across decides only by more than
-        HELD_ACROSS_MARGIN_DEG: eyes 4.9 degrees across from a cup carried past them and 5.0
+        `held_across_margin_deg`: eyes 4.9 degrees across from a cup carried past them and 5.0
         from the box asked for, 19 below the cup and 5 below the box, are on the box. The
         price: a correction whose eyes pass that near the object held is not read."""
         if held is None or gaze is None:
@@ -239,7 +234,7 @@ class IntentTracker:
         above = pitch_errors_deg(gaze, held[None])[0]
         params = self.params
         level = abs(above) <= params.gaze_pitch_tolerance_deg
-        nearer = across + HELD_ACROSS_MARGIN_DEG < across_asked
+        nearer = across + params.held_across_margin_deg < across_asked
         return across <= params.gaze_tolerance_deg and (level or nearer)
 
     def _dwelt(self, candidate: str | None, since: float, frame: FrameJudgement, time: float):

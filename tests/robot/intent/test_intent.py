@@ -663,18 +663,24 @@ def test_a_carried_object_above_the_eyes_bearing_by_no_more_than_its_noise_is_no
     """The robot carries the green cup past the eyes' bearing, 25 cm above the blue cup they
     look at while the arm points at it: across, the cup held is nearer the eyes' bearing by
     less than the gaze errs, and the pitch puts the eyes on the blue cup. The correction is
-    read (with across alone deciding, it was refused for eyes 4.9 degrees across from a
-    carried cup and 5.0 from the box asked for)."""
-    params = IntentParams(t_max=0.5, face_tilt_deg=TRUE_FACE_TILT)
+    read; with across alone deciding (no margin) it is refused, as it was for eyes 4.9 degrees
+    across from a carried cup and 5.0 from the box asked for."""
     blue = CUPS[2][1]
     points, _ = keypoints(look_at=blue)
     to_blue = blue - (points[R_EYE] + points[L_EYE]) / 2
     beside = np.array([-to_blue[1], to_blue[0], 0.0]) / np.hypot(*to_blue[:2])
     look = blue + 0.03 * beside  # the eyes 2-3 degrees beside the blue cup
     held = [("green", look + [0.0, 0.0, 0.25]), CUPS[2]]
-    tracker, time = _recognised_green(params)
-    resting, confidence = keypoints(look_at=look)
-    _, time = _run(tracker, time, params.smoothing_s + 0.5, resting, confidence, held)
-    points, confidence = keypoints(look_at=look, point_with="right", point_at=blue)
-    states, _ = _run(tracker, time, 2.0, points, confidence, candidates=held)
-    assert states[-1].correction == "blue"
+
+    def corrected(margin_deg: float) -> str | None:
+        params = IntentParams(t_max=0.5, face_tilt_deg=TRUE_FACE_TILT,
+                              held_across_margin_deg=margin_deg)  # fmt: skip
+        tracker, time = _recognised_green(params)
+        resting, confidence = keypoints(look_at=look)
+        _, time = _run(tracker, time, params.smoothing_s + 0.5, resting, confidence, held)
+        points, confidence = keypoints(look_at=look, point_with="right", point_at=blue)
+        states, _ = _run(tracker, time, 2.0, points, confidence, candidates=held)
+        return states[-1].correction
+
+    assert corrected(IntentParams().held_across_margin_deg) == "blue"
+    assert corrected(0.0) is None
