@@ -16,8 +16,8 @@ as far from *those* obstacles as the start was, less ESCAPE_SLACK (`StartContact
 pair keeps the bound all the way: a start in contact never licenses touching another obstacle
 (a carry that starts 7 cm inside the held box's second detection, under one allowance for
 every obstacle, could pass the box 7 cm through a neighbouring cup) or the same obstacle with
-another part (a base started 6 cm inside the perceived table's block, under one allowance for
-the whole robot, swung the hand 5 cm into the table's top).
+another part (fingers started inside the perceived table's block license neither the palm nor
+the base to come that near it).
 
 A grasp's approach may touch the object it closes on, but only as its goal does (`Target`): no
 nearer to it anywhere on the way than the pads straddling it at the end.

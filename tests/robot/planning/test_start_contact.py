@@ -1,8 +1,8 @@
 """A path from a start already nearer than the bound: only the parts of the HSR and the
 obstacles the start touches may stay that near over the path's first stretch; every other pair
 keeps the bound (a carry starting inside the held box's second detection would pass it 7 cm
-through a neighbouring cup under one allowance for all, and a base started inside the table's
-block swung the hand into the table's top under one allowance for the whole robot)."""
+through a neighbouring cup under one allowance for all; the base slid into a pillar licenses
+no other part to come near it)."""
 
 from __future__ import annotations
 
