@@ -44,8 +44,7 @@ class Watched:
     recent: tuple[Skeleton, ...] = ()
 
     def percept(self, name: str):
-        robot = self.simulation.robot.diagram
-        return robot.GetOutputPort(name).Eval(self.simulation.robot_context(self.root))
+        return _percept(self.simulation, self.simulator, name)
 
     def measured_positions(self) -> dict[str, float]:
         return self.simulation.measured_positions(self.root)
@@ -111,10 +110,11 @@ class _SceneMemory:
         """Advance to `time` (at least initialising the simulator), remembering on the way."""
         while True:
             step_end = self._simulator.get_context().get_time() + SCENE_STEP_S
-            self._simulator.AdvanceTo(min(time, step_end))
+            last = step_end >= time - 1e-9  # not a sliver of a step for the sums' rounding
+            self._simulator.AdvanceTo(time if last else step_end)
             seen = _percept(self._simulation, self._simulator, "perceived_scene")
             self.scene = remember(self.scene, seen)
-            if step_end >= time:
+            if last:
                 return
 
 

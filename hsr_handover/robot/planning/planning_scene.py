@@ -60,7 +60,8 @@ HELD_MARGIN = 0.02
 it: the grip can turn, shift and tilt it in the fingers, and the shape perceived at the grasp,
 from the camera's side, is the smaller (a box can sag 1.4 cm and tilt 13 degrees in the fingers
 as a carry sets off). The held object's second detection (`seen_in_hand`) and a start allowance
-for every obstacle (`trajectory.StartContact`) keep a carried box off its neighbours."""
+only for the parts and obstacles the start touches (`trajectory.StartContact`) keep a carried
+box off its neighbours."""
 HELD_SPREAD = OBJECT_MARGIN + HELD_MARGIN  # m the held solid reaches past the object's sides
 
 
@@ -165,6 +166,11 @@ class PlanningScene:
     def _moving(self) -> GeometrySet:
         return GeometrySet(self.moving_parts())
 
+    def obstacles_but(self, names: Iterable[str]) -> list[str]:
+        """The scene's obstacles other than those named (the held object is the robot's)."""
+        left_out = set(names)
+        return [name for name in self.geometry if name not in left_out and name != HELD]
+
     def _obstacle_set(self, names: Iterable[str]) -> GeometrySet:
         return GeometrySet([gid for name in names for gid in self.geometry.get(name, [])])
 
@@ -207,8 +213,9 @@ class PlanningScene:
             touching.setdefault(name, set()).add(part)
         declaration = CollisionFilterDeclaration()
         if only:
-            others = [name for name in self.geometry if name not in touching and name != HELD]
-            declaration.ExcludeBetween(self._moving(), self._obstacle_set(others))
+            declaration.ExcludeBetween(
+                self._moving(), self._obstacle_set(self.obstacles_but(touching))
+            )
         for name, parts in touching.items():
             excluded = [p for p in self.moving_parts() if p not in parts] if only else parts
             declaration.ExcludeBetween(GeometrySet(list(excluded)), self._obstacle_set([name]))

@@ -11,8 +11,9 @@ out from the joints) by much more, so the planner checks each path between its s
 A start that the perceived scene already puts nearer than the bound to some obstacles
 (perception errs toward bulk: a table's unseen end runs on, a person's unseen body is a column
 to the floor; a lift starts with the object on the table) would make every path infeasible;
-over the first ESCAPE_SHARE of such a path the samples need only keep *those* parts of the HSR
-as far from *those* obstacles as the start was, less ESCAPE_SLACK (`StartContact`). Every other
+over the first ESCAPE_SHARE of such a path the samples need only keep each of *those* parts of
+the HSR as far from each of *those* obstacles as the start did, less ESCAPE_SLACK
+(`StartContact`). Every other
 pair keeps the bound all the way: a start in contact never licenses touching another obstacle
 (a carry that starts 7 cm inside the held box's second detection, under one allowance for
 every obstacle, could pass the box 7 cm through a neighbouring cup) or the same obstacle with
@@ -27,6 +28,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Mapping
 
 import numpy as np
 from pydrake.geometry import GeometryId
@@ -37,7 +39,7 @@ from pydrake.trajectories import BsplineTrajectory
 from hsr_handover.hsr import BASE_JOINTS, GRIPPER_JOINT, GRIPPER_MIMIC_JOINT, HEAD_JOINTS
 from hsr_handover.robot.planning import solving
 from hsr_handover.robot.planning.outcome import Outcome
-from hsr_handover.robot.planning.planning_scene import HELD, PlanningScene
+from hsr_handover.robot.planning.planning_scene import PlanningScene
 from hsr_handover.robot.planning.solving import solve, solved
 
 CONTROL_POINTS = 10
@@ -70,10 +72,14 @@ Pair = tuple[GeometryId, str]  # (one of PlanningScene.moving_parts, an obstacle
 @dataclasses.dataclass(frozen=True)
 class StartContact:
     """The (part, obstacle) pairs a path's start lies nearer than COLLISION_BOUND (none for a
-    clear start) and its least clearance (m) over them."""
+    clear start), each with its clearance (m) there."""
 
-    pairs: frozenset[Pair] = frozenset()
-    clearance: float = COLLISION_BOUND
+    pairs: Mapping[Pair, float] = dataclasses.field(default_factory=dict)
+
+    @property
+    def clearance(self) -> float:
+        """The least clearance (m) over the pairs touched (COLLISION_BOUND for none)."""
+        return min(self.pairs.values(), default=COLLISION_BOUND)
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -83,9 +89,9 @@ class StartContact:
     def bound(self, pair: Pair, spot: float) -> float:
         """The least distance (m) to keep between the (part, obstacle) `pair` at `spot` (0 to
         1) along the path: COLLISION_BOUND, or for a pair the start touches, over the first
-        ESCAPE_SHARE, the start's clearance less ESCAPE_SLACK."""
+        ESCAPE_SHARE, the pair's own clearance at the start less ESCAPE_SLACK."""
         if pair in self.pairs and spot <= ESCAPE_SHARE:
-            return self.clearance - ESCAPE_SLACK
+            return self.pairs[pair] - ESCAPE_SLACK
         return COLLISION_BOUND
 
     def dip(self, clearances: dict[Pair, float], spot: float) -> float:
@@ -119,10 +125,7 @@ def start_contact(
     """The (part, obstacle) pairs (but obstacles in `ignore`) that the HSR at `q_start` has
     within COLLISION_BOUND of each other."""
     clearances = scene.part_clearances_at(q_start, ignore, COLLISION_BOUND)
-    near = {pair: d for pair, d in clearances.items() if d < COLLISION_BOUND}
-    if not near:
-        return StartContact()
-    return StartContact(frozenset(near), min(near.values()))
+    return StartContact({pair: d for pair, d in clearances.items() if d < COLLISION_BOUND})
 
 
 def straight_guess(q_start: np.ndarray, q_goal: np.ndarray, count: int = CONTROL_POINTS):
@@ -179,7 +182,7 @@ def optimize_path(
     guess[head] = q_start[head, None]
     contact = start_contact(scene, q_start, ignore)
     # A context that sees the target alone, made before the target is ignored with the rest.
-    alone = None if target is None else scene.ignoring_context(_all_but(scene, (target.name,)))
+    alone = None if target is None else scene.ignoring_context(scene.obstacles_but((target.name,)))
     with scene.ignoring(ignore):
         trajopt = _build(scene, q_start, q_goal, guess.shape[1], head)
         constraints = _keep_clear(trajopt, scene, contact, samples)
@@ -232,11 +235,6 @@ def _build(
     return trajopt
 
 
-def _all_but(scene: PlanningScene, names: tuple[str, ...]) -> list[str]:
-    """The scene's obstacles other than those named (the held object is the robot's)."""
-    return [other for other in scene.geometry if other not in names and other != HELD]
-
-
 def _keep_clear_of(trajopt, scene: PlanningScene, target: Target, context, samples: int):
     """Keep the path at `samples` evenly spaced points `target.bound` from the target, which
     alone the plant `context` sees; the constraint, to keep alive through the solve."""
@@ -248,7 +246,7 @@ def _keep_clear_of(trajopt, scene: PlanningScene, target: Target, context, sampl
 
 def _keep_clear(trajopt, scene: PlanningScene, contact: StartContact, samples: int) -> list:
     """Keep the path at `samples` evenly spaced points clear of the scene by COLLISION_BOUND,
-    and the (part, obstacle) pairs its start touches (`contact`) by their StartContact bounds
+    and each (part, obstacle) pair its start touches (`contact`) by its StartContact bound
     (each constraint in a context that sees only its pairs); the objects to keep alive through
     the solve."""
     plant, spots = scene.plant, np.linspace(0.0, 1.0, samples)
@@ -259,11 +257,14 @@ def _keep_clear(trajopt, scene: PlanningScene, contact: StartContact, samples: i
     everything = lower_bound(COLLISION_BOUND, scene.plant_context)
     alive, escape = [everything], (everything,)
     if contact.pairs:
-        touched_root, touched = scene.pairs_context(contact.pairs, only=True)
         rest_root, rest = scene.pairs_context(contact.pairs, only=False)
-        escape = (lower_bound(contact.clearance - ESCAPE_SLACK, touched),
-                  lower_bound(COLLISION_BOUND, rest))  # fmt: skip
-        alive += [touched_root, rest_root, touched, rest, *escape]
+        escape = [lower_bound(COLLISION_BOUND, rest)]
+        alive += [rest_root, rest]
+        for pair in contact.pairs:
+            pair_root, alone = scene.pairs_context((pair,), only=True)
+            escape.append(lower_bound(contact.bound(pair, 0.0), alone))
+            alive += [pair_root, alone]
+        alive += escape
     for spot in spots:
         for constraint in escape if spot <= ESCAPE_SHARE else (everything,):
             trajopt.AddPathPositionConstraint(constraint, spot)

@@ -663,8 +663,8 @@ def test_a_carried_object_above_the_eyes_bearing_by_no_more_than_its_noise_is_no
     """The robot carries the green cup past the eyes' bearing, 25 cm above the blue cup they
     look at while the arm points at it: across, the cup held is nearer the eyes' bearing by
     less than the gaze errs, and the pitch puts the eyes on the blue cup. The correction is
-    read; with across alone deciding (no margin) it is refused, as it was for eyes 4.9 degrees
-    across from a carried cup and 5.0 from the box asked for."""
+    read; with across alone deciding (no margin) it is refused, as eyes 4.9 degrees across from
+    a carried cup and 5.0 from the box asked for would be."""
     blue = CUPS[2][1]
     points, _ = keypoints(look_at=blue)
     to_blue = blue - (points[R_EYE] + points[L_EYE]) / 2

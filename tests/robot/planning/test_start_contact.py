@@ -12,7 +12,7 @@ from pydrake.geometry import GeometryId
 
 from hsr_handover.hsr import BASE_JOINTS
 from hsr_handover.robot.perception.object_shapes import CYLINDER, ObjectShape
-from hsr_handover.robot.planning import trajectory
+from hsr_handover.robot.planning import solving, trajectory
 from hsr_handover.robot.planning.paths import find_path
 from hsr_handover.robot.planning.perceived_scene import PerceivedScene
 from hsr_handover.robot.planning.planning_scene import NEAR, PlanningScene
@@ -64,8 +64,8 @@ def _least(scene, path, name: str, until: float = 1.0) -> float:
 
 def test_the_allowance_is_for_the_pairs_touched_and_the_first_stretch():
     base, hand = GeometryId.get_new_id(), GeometryId.get_new_id()
-    contact = StartContact(frozenset({(base, "table")}), -0.04)
-    assert contact.names == ("table",)
+    contact = StartContact({(base, "table"): -0.04})
+    assert contact.names == ("table",) and contact.clearance == -0.04
     assert contact.bound((base, "table"), 0.0) == pytest.approx(-0.04 - ESCAPE_SLACK)
     assert contact.bound((base, "table"), ESCAPE_SHARE) == pytest.approx(-0.04 - ESCAPE_SLACK)
     assert contact.bound((base, "table"), ESCAPE_SHARE + 0.01) == COLLISION_BOUND
@@ -80,6 +80,17 @@ def test_the_allowance_is_for_the_pairs_touched_and_the_first_stretch():
     assert contact.dip(hand_in, 0.1) == pytest.approx(COLLISION_BOUND + 0.01)
     assert contact.dip({}, 0.1) == -np.inf
     assert StartContact().bound((base, "table"), 0.0) == COLLISION_BOUND
+
+
+def test_each_pair_touched_keeps_its_own_start_distance():
+    """Fingers 5 cm inside the table and the palm 1 cm from it: the palm may not go as deep as
+    the fingers started."""
+    fingers, palm = GeometryId.get_new_id(), GeometryId.get_new_id()
+    contact = StartContact({(fingers, "table"): -0.05, (palm, "table"): 0.01})
+    assert contact.clearance == -0.05
+    assert contact.bound((fingers, "table"), 0.1) == pytest.approx(-0.05 - ESCAPE_SLACK)
+    assert contact.bound((palm, "table"), 0.1) == pytest.approx(0.01 - ESCAPE_SLACK)
+    assert contact.dip({(fingers, "table"): -0.05, (palm, "table"): -0.03}, 0.1) > 0
 
 
 def test_a_start_names_what_it_touches_and_with_which_parts(scene, start):
@@ -127,9 +138,18 @@ def test_one_allowance_for_every_obstacle_would_cut_through_the_one_ahead(
 ):
     """The scene discriminates: granted to both pillars, the start's allowance lets the
     shortest path clip the pillar ahead."""
-    both = StartContact(frozenset((part, name) for part in scene.moving_parts()
-                                  for name in ("ahead", "beside")), TOUCHING)  # fmt: skip
+    both = StartContact({(part, name): TOUCHING for part in scene.moving_parts()
+                         for name in ("ahead", "beside")})  # fmt: skip
     monkeypatch.setattr(trajectory, "start_contact", lambda *_: both)
     result = optimize_path(scene, start, _goal(scene, start))
     assert result.ok, result.reason
     assert _least(scene, result.path, "ahead") < 0
+
+
+def test_paths_solve_at_the_paths_effort(scene, start, monkeypatch):
+    """A path past the pillar ahead needs more than one of SNOPT's major iterations: at a path
+    effort of one, the solve stops at its limit (IK's effort is not what paths use)."""
+    monkeypatch.setattr(solving, "PATH_EFFORT", solving.Effort(optimality=0.1, iterations=1))
+    monkeypatch.setattr(solving, "IK_EFFORT", solving.Effort(optimality=0.01, iterations=1000))
+    result = optimize_path(scene, start, _goal(scene, start))
+    assert not result.ok and "kIterationLimit" in result.reason
