@@ -646,17 +646,21 @@ def test_eyes_toward_the_object_held_rather_than_the_one_pointed_at_are_watching
     params = IntentParams(t_max=0.5, face_tilt_deg=TRUE_FACE_TILT)
     blue, green = CUPS[2][1], CUPS[1][1]
     held = [("green", green + [0.0, 0.0, 0.2]), CUPS[2]]
+    assert _correction_while_held(params, blue, blue, held) == "blue"
+    # The held cup's bearing, 0.2 m below it:
+    assert _correction_while_held(params, green, blue, held) is None
 
-    def corrected(look: np.ndarray) -> str | None:
-        tracker, time = _recognised_green(params)
-        resting, confidence = keypoints(look_at=look)
-        _, time = _run(tracker, time, params.smoothing_s + 0.5, resting, confidence, held)
-        points, confidence = keypoints(look_at=look, point_with="right", point_at=blue)
-        states, _ = _run(tracker, time, 2.0, points, confidence, candidates=held)
-        return states[-1].correction
 
-    assert corrected(look=blue) == "blue"
-    assert corrected(look=green) is None  # the held cup's bearing, 0.2 m below it
+def _correction_while_held(params, look, point_at, held) -> str | None:
+    """The correction read once green was recognised and is held (`held`: the candidates, the
+    held one among them), the eyes on `look` at rest and then while the right arm points at
+    `point_at`."""
+    tracker, time = _recognised_green(params)
+    resting, confidence = keypoints(look_at=look)
+    _, time = _run(tracker, time, params.smoothing_s + 0.5, resting, confidence, held)
+    points, confidence = keypoints(look_at=look, point_with="right", point_at=point_at)
+    states, _ = _run(tracker, time, 2.0, points, confidence, candidates=held)
+    return states[-1].correction
 
 
 def test_a_carried_object_above_the_eyes_bearing_by_no_more_than_its_noise_is_not_watched():
@@ -675,12 +679,7 @@ def test_a_carried_object_above_the_eyes_bearing_by_no_more_than_its_noise_is_no
     def corrected(margin_deg: float) -> str | None:
         params = IntentParams(t_max=0.5, face_tilt_deg=TRUE_FACE_TILT,
                               held_across_margin_deg=margin_deg)  # fmt: skip
-        tracker, time = _recognised_green(params)
-        resting, confidence = keypoints(look_at=look)
-        _, time = _run(tracker, time, params.smoothing_s + 0.5, resting, confidence, held)
-        points, confidence = keypoints(look_at=look, point_with="right", point_at=blue)
-        states, _ = _run(tracker, time, 2.0, points, confidence, candidates=held)
-        return states[-1].correction
+        return _correction_while_held(params, look, blue, held)
 
     assert corrected(IntentParams().held_across_margin_deg) == "blue"
     assert corrected(0.0) is None
