@@ -13,12 +13,11 @@ A start that the perceived scene already puts nearer than the bound to some obst
 to the floor; a lift starts with the object on the table) would make every path infeasible;
 over the first ESCAPE_SHARE of such a path the samples need only keep each of *those* parts of
 the HSR as far from each of *those* obstacles as the start did, less ESCAPE_SLACK
-(`StartContact`). Every other
-pair keeps the bound all the way: a start in contact never licenses touching another obstacle
-(a carry that starts 7 cm inside the held box's second detection, under one allowance for
-every obstacle, could pass the box 7 cm through a neighbouring cup) or the same obstacle with
-another part (fingers started inside the perceived table's block license neither the palm nor
-the base to come that near it).
+(`StartContact`). Every other pair keeps the bound all the way: a start in contact never
+licenses touching another obstacle (a carry that starts 7 cm inside the held box's second
+detection, under one allowance for every obstacle, could pass the box 7 cm through a
+neighbouring cup) or the same obstacle with another part (fingers started inside the perceived
+table's block license neither the palm nor the base to come that near it).
 
 A grasp's approach may touch the object it closes on, but only as its goal does (`Target`): no
 nearer to it anywhere on the way than the pads straddling it at the end.
