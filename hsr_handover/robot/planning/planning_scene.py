@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import contextlib
 import math
-from collections.abc import Iterable, Iterator, Mapping, Sequence
+from collections.abc import Hashable, Iterable, Iterator, Mapping, Sequence
 
 import numpy as np
 from pydrake.geometry import (
@@ -331,17 +331,17 @@ class PlanningScene:
     ) -> dict[tuple[GeometryId, str], float]:
         """`clearances` by (part, obstacle): the least signed distance between each of
         `moving_parts` and each obstacle within `within` of each other."""
-        pairs = self.query().ComputeSignedDistancePairwiseClosestPoints(within)
-        distances: dict[tuple[GeometryId, str], float] = {}
-        for pair in pairs:
+        return _least(((part, name), d) for part, name, d in self._pairs(ignore, within))
+
+    def _pairs(self, ignore: tuple[str, ...], within: float):
+        """(part, obstacle's name, signed distance) of each pair within `within` (m), the
+        obstacles in `ignore` left out."""
+        for pair in self.query().ComputeSignedDistancePairwiseClosestPoints(within):
             obstacle, part = self._owner.get(pair.id_A), pair.id_B
             if obstacle is None:
                 obstacle, part = self._owner.get(pair.id_B), pair.id_A
-            if obstacle is None or obstacle in ignore:
-                continue
-            key = (part, obstacle)
-            distances[key] = min(pair.distance, distances.get(key, math.inf))
-        return distances
+            if obstacle is not None and obstacle not in ignore:
+                yield part, obstacle, pair.distance
 
     def clearances_at(
         self, q: np.ndarray, ignore: tuple[str, ...] = (), within: float = NEAR
@@ -357,7 +357,13 @@ class PlanningScene:
         Drake then computes fewer pairs. The obstacles ignored are dropped from the pairs
         rather than filtered out of the query: a transient collision filter applied and
         removed per query cost a third of it, and the pairs left are the same."""
-        distances: dict[str, float] = {}
-        for (_, obstacle), distance in self.part_clearances(ignore, within).items():
-            distances[obstacle] = min(distance, distances.get(obstacle, math.inf))
-        return distances
+        return _least((name, d) for _, name, d in self._pairs(ignore, within))
+
+
+def _least(distances: Iterable[tuple[Hashable, float]]) -> dict:
+    """The least distance by key of (key, distance) pairs."""
+    least: dict = {}
+    for key, distance in distances:
+        if distance < least.get(key, math.inf):
+            least[key] = distance
+    return least
