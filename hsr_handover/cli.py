@@ -24,6 +24,9 @@ from hsr_handover.progress import ProgressBar
 EXIT_USAGE = 2
 EXIT_FAILED = 1
 EXIT_SIMULATION_FAILED = 3  # the run's physics could not go on: reported, with what it did
+RECORD_FORMATS = ("folder", "ros2", "ros1")
+"""`simulation.RECORD_FORMATS`, the first the default, named here so that parsing the command
+line does not import Drake."""
 
 
 class UsageError(Exception):
@@ -171,9 +174,9 @@ def _parser() -> argparse.ArgumentParser:
         "directory; ros1: a new .bag file)",
     )  # fmt: skip
     run.add_argument(
-        "--record-format", choices=("folder", "ros2", "ros1"), default="folder",
-        help="folder (default: PNG frames, YAML, OpenPose JSON), ros2 (an MCAP bag folder) or "
-        "ros1 (a .bag file), with the HSR's topics",
+        "--record-format", choices=RECORD_FORMATS,
+        help="with --record: folder (default: PNG frames, YAML, OpenPose JSON), ros2 (an MCAP "
+        "bag folder) or ros1 (a .bag file), with the HSR's topics",
     )  # fmt: skip
     run.add_argument(
         "--trajectories", type=Path, metavar="FILE",
@@ -312,6 +315,9 @@ def _run(args: argparse.Namespace) -> int:
 
     scenario = load_scenario(args.scenario)
     _apply_overrides(scenario, args)
+    if args.record_format is not None and args.record is None:
+        raise UsageError("--record-format: expected --record PATH with it (nothing is recorded)")
+    args.record_format = args.record_format or RECORD_FORMATS[0]
     replay, record = _replay_path(args), _record_path(args.record, args.record_format)
     trajectories = _output_path(args.trajectories, "--trajectories", ".json")
     if trajectories is not None and not scenario.handover.enabled:

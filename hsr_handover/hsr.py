@@ -31,6 +31,8 @@ WRIST_SENSOR_JOINT = "hand_palm_joint"
 """The fixed joint mounting the hand on the wrist, where the HSR's force-torque sensor sits; its
 child frame is PALM_FRAME."""
 CAMERA_FRAME = "head_rgbd_sensor_frame"
+BASE_RADIUS = 0.218
+"""m: the HSR's base disc (hsrb.sdf: round the base's x, y, 1 to 14 cm up)."""
 BASE_JOINTS = ("base_x_joint", "base_y_joint", "base_yaw_joint")
 ARM_JOINTS = ARM_JOINT_NAMES
 HEAD_JOINTS = ("head_pan_joint", "head_tilt_joint")

@@ -124,6 +124,18 @@ def test_overrides_are_held_to_the_files_ranges(tmp_path, capsys, option, value,
     assert not replay.exists()
 
 
+def test_a_record_format_without_a_recording_is_refused(tmp_path, capsys):
+    from hsr_handover import cli, simulation
+
+    assert cli.RECORD_FORMATS == simulation.RECORD_FORMATS
+    replay = tmp_path / "never.html"
+    code = cli.main(["run", str(SCENARIOS / "point_left.yaml"), "--html", str(replay),
+                     "--record-format", "ros2"])  # fmt: skip
+    expected = "--record-format: expected --record PATH with it (nothing is recorded)"
+    assert code == 2 and capsys.readouterr().err.strip() == f"error: {expected}"
+    assert not replay.exists()
+
+
 @pytest.mark.parametrize(("lift", "said"), [(0.0, False), (0.42, True)])
 def test_the_run_says_when_the_robot_watched_from_a_raised_torso(capsys, lift: float, said: bool):
     cycle = CycleRecord(Phase.DONE, target="yellow", recognised_time=4.0, watch_lift=lift)

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import pytest
-from pydrake.geometry import Box, SceneGraph
+from pydrake.geometry import Box, Cylinder, SceneGraph
 from pydrake.math import RigidTransform
 from pydrake.multibody.parsing import Parser
 from pydrake.multibody.plant import AddMultibodyPlantSceneGraph, MultibodyPlant
@@ -20,6 +20,7 @@ from pydrake.systems.primitives import ConstantVectorSource
 from hsr_handover.hsr import (
     ARM_JOINTS,
     BASE_JOINTS,
+    BASE_RADIUS,
     CAMERA_FRAME,
     GRIPPER_JOINT,
     GRIPPER_MAX_OPENING,
@@ -179,6 +180,15 @@ def test_actuators_are_pd_controlled_with_design_efforts(robot: Robot) -> None:
     assert efforts == pytest.approx(EFFORT_LIMITS)
     assert all(actuator.has_controller() for actuator in actuators)
     assert set(BASE_JOINTS + ARM_JOINTS + HEAD_JOINTS + (GRIPPER_JOINT,)) == set(efforts)
+
+
+def test_the_base_disc_is_the_models(robot: Robot) -> None:
+    """The planner's base radius is the model's collision cylinder round the base."""
+    inspector = robot.scene_graph.model_inspector()
+    base = robot.plant.GetBodyByName("base_link", robot.instance)
+    shapes = [inspector.GetShape(g) for g in robot.plant.GetCollisionGeometriesForBody(base)]
+    radii = [shape.radius() for shape in shapes if isinstance(shape, Cylinder)]
+    assert radii == [pytest.approx(BASE_RADIUS)]
 
 
 def test_palm_at_zero_and_highest(robot: Robot) -> None:

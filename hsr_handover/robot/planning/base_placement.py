@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from hsr_handover.hsr import ARM_JOINTS, BASE_JOINTS, TORSO_JOINT
+from hsr_handover.hsr import ARM_JOINTS, BASE_JOINTS, BASE_RADIUS, TORSO_JOINT
 from hsr_handover.kinematics import hsr_arm
 from hsr_handover.kinematics.hsr_arm import ARM_FLEX_ORIGIN
 from hsr_handover.robot.effectivity.arm_map import ArmEffectivity
@@ -32,11 +32,10 @@ REACHES = np.arange(0.30, 0.66, 0.025)  # m, palm ahead of the base centre, the 
 PREFERRED_REACH = 0.47  # m: the arm about level, far from its limits
 BASE_CLEARANCE = 0.04  # m the folded-up robot keeps from every obstacle where it stands
 MAX_CANDIDATES = 4
-BASE_DISC_RADIUS = 0.215
-"""m: a hair inside the HSR's base disc (hsrb.sdf: radius 0.218 round the base's x, y, 1 to 14
-cm up, below any table the fit accepts). A base whose centre is nearer the perceived table's
-block (floor to top) than this plus BASE_CLEARANCE cannot keep BASE_CLEARANCE from it
-(`_in_table`)."""
+BASE_DISC_RADIUS = BASE_RADIUS - 0.003
+"""m: a hair inside the HSR's base disc (it is below any table the fit accepts). A base whose
+centre is nearer the perceived table's block (floor to top) than this plus BASE_CLEARANCE
+cannot keep BASE_CLEARANCE from it (`_in_table`)."""
 ROUND_TURNS_DEG = (90.0, -90.0, 45.0, -45.0, 135.0, -135.0, 180.0)
 """Headings a turned base tries for a vertical approach, from facing the object as it does
 from where the robot stands: square to that first (beside a table the robot faces), then

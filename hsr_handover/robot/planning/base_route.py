@@ -11,9 +11,9 @@ import math
 
 import numpy as np
 
+from hsr_handover.hsr import BASE_RADIUS
 from hsr_handover.robot.perception.table_fit import TableEstimate
 
-BASE_RADIUS = 0.22  # m, the HSR's base disc (0.218)
 ROUTE_MARGIN = 0.12  # m kept between the base's disc and the table's edge on the way round
 
 

@@ -6,8 +6,9 @@ import itertools
 
 import numpy as np
 
+from hsr_handover.hsr import BASE_RADIUS
 from hsr_handover.robot.perception.table_fit import TableEstimate
-from hsr_handover.robot.planning.base_route import BASE_RADIUS, ROUTE_MARGIN, route_around
+from hsr_handover.robot.planning.base_route import ROUTE_MARGIN, route_around
 
 TABLE = TableEstimate(0.72, np.array([0.85, 0.0]), np.array([0.6, 1.0]), 0.0, 5000)
 
