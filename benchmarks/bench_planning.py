@@ -71,7 +71,7 @@ from hsr_handover.robot.planning.planner import (
 )
 from hsr_handover.robot.planning.planning_scene import PlanningScene
 from hsr_handover.robot.planning.timing import joint_limits
-from hsr_handover.robot.planning.trajectory import CONTROL_POINTS
+from hsr_handover.robot.planning.trajectory import COLLISION_BOUND, CONTROL_POINTS
 from hsr_handover.robot.planning.verification import CHECK_STEP
 from hsr_handover.scenario import load_scenario
 
@@ -380,7 +380,10 @@ def _with_vias(guesses, rng: np.random.Generator):
 
 def _clear_start(planning, truth, measured: dict, rng: np.random.Generator) -> np.ndarray:
     """A start near where the robot perceived from, at least START_CLEARANCE from everything
-    (a robot does not start inside the table); where it perceived from if none is drawn."""
+    (a robot does not start inside the table) and COLLISION_BOUND from what it perceives (the
+    cycle's robot stands where clear paths of its percepts brought it: drawn only clear of the
+    truth, a hand stowed under a table's top started inside the perceived table's block, which
+    runs to the floor); where it perceived from if none is drawn."""
     planning.set_positions(measured)
     perceived_from = planning.positions()
     for _ in range(START_DRAWS):
@@ -389,7 +392,8 @@ def _clear_start(planning, truth, measured: dict, rng: np.random.Generator) -> n
         start["base_y_joint"] += rng.uniform(-START[0], START[0])
         start["base_yaw_joint"] += rng.uniform(-START[1], START[1])
         planning.set_positions(start)
-        if truth(planning.positions())[0] >= START_CLEARANCE:
+        clear = planning.clearance(within=COLLISION_BOUND)[0] >= COLLISION_BOUND
+        if clear and truth(planning.positions())[0] >= START_CLEARANCE:
             return planning.positions()
     return perceived_from
 

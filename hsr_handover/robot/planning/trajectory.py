@@ -11,13 +11,16 @@ out from the joints) by much more, so the planner checks each path between its s
 A start that the perceived scene already puts nearer than the bound to some obstacles
 (perception errs toward bulk: a table's unseen end runs on, a person's unseen body is a column
 to the floor; a lift starts with the object on the table) would make every path infeasible;
-over the first ESCAPE_SHARE of such a path the samples need only keep each of *those* parts of
-the HSR as far from each of *those* obstacles as the start did, less ESCAPE_SLACK
-(`StartContact`). Every other pair keeps the bound all the way: a start in contact never
-licenses touching another obstacle (a carry that starts 7 cm inside the held box's second
-detection, under one allowance for every obstacle, could pass the box 7 cm through a
-neighbouring cup) or the same obstacle with another part (fingers started inside the perceived
-table's block license neither the palm nor the base to come that near it).
+over the first ESCAPE_SHARE of such a path each of *those* parts of the HSR need only keep from
+each of *those* obstacles a bound that rises from the start's distance, less ESCAPE_SLACK, to
+COLLISION_BOUND (`StartContact`): the path must get out, not merely stay no deeper (held to the
+start's depth all the way, fingers that began 5 cm inside the perceived table's block slid
+along it at that depth, 3.6 cm into the true table). Every other pair keeps the bound all the
+way: a start in contact never licenses touching another obstacle (a carry that starts 7 cm
+inside the held box's second detection, under one allowance for every obstacle, could pass the
+box 7 cm through a neighbouring cup) or the same obstacle with another part (fingers started
+inside the perceived table's block license neither the palm nor the base to come that near
+it).
 
 A grasp's approach may touch the object it closes on, but only as its goal does (`Target`): no
 nearer to it anywhere on the way than the pads straddling it at the end.
@@ -49,7 +52,7 @@ STOWED = {"arm_lift_joint": 0.0, "torso_lift_joint": 0.0, "arm_flex_joint": 0.0,
 COLLISION_SAMPLES = 30
 COLLISION_BOUND = 0.013  # m at the samples: about 1 cm everywhere between them
 INFLUENCE = 0.05  # m beyond the bound where distances start to count
-ESCAPE_SHARE = 0.3  # of the path over which a start within the bound may stay that near
+ESCAPE_SHARE = 0.3  # of the path over which a start within the bound must get out to it
 ESCAPE_SLACK = 0.005  # m nearer than the start it may come meanwhile
 MAX_DURATION = 30.0  # s of the path's nominal time (toppra retimes it)
 FREE_POSITION = 20.0  # m: stands in for the base's unbounded x and y
@@ -88,10 +91,12 @@ class StartContact:
     def bound(self, pair: Pair, spot: float) -> float:
         """The least distance (m) to keep between the (part, obstacle) `pair` at `spot` (0 to
         1) along the path: COLLISION_BOUND, or for a pair the start touches, over the first
-        ESCAPE_SHARE, the pair's own clearance at the start less ESCAPE_SLACK."""
-        if pair in self.pairs and spot <= ESCAPE_SHARE:
-            return self.pairs[pair] - ESCAPE_SLACK
-        return COLLISION_BOUND
+        ESCAPE_SHARE, a bound rising linearly from the pair's own clearance at the start less
+        ESCAPE_SLACK to COLLISION_BOUND."""
+        if pair not in self.pairs or spot >= ESCAPE_SHARE:
+            return COLLISION_BOUND
+        start = self.pairs[pair] - ESCAPE_SLACK
+        return start + (COLLISION_BOUND - start) * max(spot, 0.0) / ESCAPE_SHARE
 
     def dip(self, clearances: dict[Pair, float], spot: float) -> float:
         """How far (m) the clearances by (part, obstacle) at `spot` come inside their bounds
@@ -254,17 +259,21 @@ def _keep_clear(trajopt, scene: PlanningScene, contact: StartContact, samples: i
         return MinimumDistanceLowerBoundConstraint(plant, bound, plant_context, None, INFLUENCE)
 
     everything = lower_bound(COLLISION_BOUND, scene.plant_context)
-    alive, escape = [everything], (everything,)
-    if contact.pairs:
+    alive, escaping = [everything], [spot for spot in spots if spot < ESCAPE_SHARE]
+    if contact.pairs and escaping:
         rest_root, rest = scene.pairs_context(contact.pairs, only=False)
-        escape = [lower_bound(COLLISION_BOUND, rest)]
-        alive += [rest_root, rest]
-        for pair in contact.pairs:
-            pair_root, alone = scene.pairs_context((pair,), only=True)
-            escape.append(lower_bound(contact.bound(pair, 0.0), alone))
-            alive += [pair_root, alone]
-        alive += escape
-    for spot in spots:
-        for constraint in escape if spot <= ESCAPE_SHARE else (everything,):
-            trajopt.AddPathPositionConstraint(constraint, spot)
+        rest_bound = lower_bound(COLLISION_BOUND, rest)
+        alive += [rest_root, rest, rest_bound]
+        alone = {pair: scene.pairs_context((pair,), only=True) for pair in contact.pairs}
+        alive += [context for contexts in alone.values() for context in contexts]
+        for spot in escaping:
+            trajopt.AddPathPositionConstraint(rest_bound, spot)
+            for pair, (_, context) in alone.items():
+                constraint = lower_bound(contact.bound(pair, spot), context)
+                trajopt.AddPathPositionConstraint(constraint, spot)
+                alive.append(constraint)
+    else:
+        escaping = []
+    for spot in spots[len(escaping) :]:
+        trajopt.AddPathPositionConstraint(everything, spot)
     return alive

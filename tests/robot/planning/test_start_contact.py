@@ -67,17 +67,20 @@ def test_the_allowance_is_for_the_pairs_touched_and_the_first_stretch():
     contact = StartContact({(base, "table"): -0.04})
     assert contact.names == ("table",) and contact.clearance == -0.04
     assert contact.bound((base, "table"), 0.0) == pytest.approx(-0.04 - ESCAPE_SLACK)
-    assert contact.bound((base, "table"), ESCAPE_SHARE) == pytest.approx(-0.04 - ESCAPE_SLACK)
-    assert contact.bound((base, "table"), ESCAPE_SHARE + 0.01) == COLLISION_BOUND
+    # It rises to the bound over the first stretch: the path must get out, not stay as deep.
+    halfway = (-0.04 - ESCAPE_SLACK + COLLISION_BOUND) / 2
+    assert contact.bound((base, "table"), ESCAPE_SHARE / 2) == pytest.approx(halfway)
+    assert contact.bound((base, "table"), ESCAPE_SHARE) == COLLISION_BOUND
     assert contact.bound((base, "cup"), 0.0) == COLLISION_BOUND
     assert contact.bound((hand, "table"), 0.0) == COLLISION_BOUND
     # 3 cm into the table at the start is within the base's allowance; 1 cm near the cup is
     # not, nor the hand 1 cm into the table.
-    assert contact.dip({(base, "table"): -0.03, (base, "cup"): 0.05}, 0.1) < 0
+    assert contact.dip({(base, "table"): -0.03, (base, "cup"): 0.05}, 0.02) < 0
+    assert contact.dip({(base, "table"): -0.03}, ESCAPE_SHARE / 2) > 0
     near_cup = {(base, "table"): -0.03, (base, "cup"): 0.01}
-    assert contact.dip(near_cup, 0.1) == pytest.approx(COLLISION_BOUND - 0.01)
+    assert contact.dip(near_cup, 0.02) == pytest.approx(COLLISION_BOUND - 0.01)
     hand_in = {(base, "table"): -0.03, (hand, "table"): -0.01}
-    assert contact.dip(hand_in, 0.1) == pytest.approx(COLLISION_BOUND + 0.01)
+    assert contact.dip(hand_in, 0.02) == pytest.approx(COLLISION_BOUND + 0.01)
     assert contact.dip({}, 0.1) == -np.inf
     assert StartContact().bound((base, "table"), 0.0) == COLLISION_BOUND
 
@@ -88,9 +91,9 @@ def test_each_pair_touched_keeps_its_own_start_distance():
     fingers, palm = GeometryId.get_new_id(), GeometryId.get_new_id()
     contact = StartContact({(fingers, "table"): -0.05, (palm, "table"): 0.01})
     assert contact.clearance == -0.05
-    assert contact.bound((fingers, "table"), 0.1) == pytest.approx(-0.05 - ESCAPE_SLACK)
-    assert contact.bound((palm, "table"), 0.1) == pytest.approx(0.01 - ESCAPE_SLACK)
-    assert contact.dip({(fingers, "table"): -0.05, (palm, "table"): -0.03}, 0.1) > 0
+    assert contact.bound((fingers, "table"), 0.0) == pytest.approx(-0.05 - ESCAPE_SLACK)
+    assert contact.bound((palm, "table"), 0.0) == pytest.approx(0.01 - ESCAPE_SLACK)
+    assert contact.dip({(fingers, "table"): -0.05, (palm, "table"): -0.03}, 0.0) > 0
 
 
 def test_a_start_names_what_it_touches_and_with_which_parts(scene, start):
@@ -137,13 +140,13 @@ def test_one_allowance_for_every_obstacle_would_cut_through_the_one_ahead(
     scene, start, monkeypatch
 ):
     """The scene discriminates: granted to both pillars, the start's allowance lets the
-    shortest path clip the pillar ahead."""
+    shortest path pass the pillar ahead nearer than any path may that keeps its bound."""
     both = StartContact({(part, name): TOUCHING for part in scene.moving_parts()
                          for name in ("ahead", "beside")})  # fmt: skip
     monkeypatch.setattr(trajectory, "start_contact", lambda *_: both)
     result = optimize_path(scene, start, _goal(scene, start))
     assert result.ok, result.reason
-    assert _least(scene, result.path, "ahead") < 0
+    assert _least(scene, result.path, "ahead") < COLLISION_BOUND - DIP_ALLOWANCE
 
 
 def test_paths_solve_at_the_paths_effort(scene, start, monkeypatch):
