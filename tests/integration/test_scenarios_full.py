@@ -18,22 +18,9 @@ from hsr_handover.scenario import load_scenario, object_center
 from hsr_handover.simulation import run_scenario
 from tests.paths import bundled_scenarios
 
-FALSE_TRIGGER = pytest.mark.xfail(
-    strict=True,
-    reason="a known false trigger: the realistic detector swaps the resting person's arms for "
-    "0.2 s and the recogniser reads the right arm as pointing at the blue cup at 29.6 s",
-)
-
-
-def _scenarios() -> list:
-    """Every bundled scenario; the one with a known false trigger marked so (strict: it fails
-    the suite once the recogniser no longer triggers, to be unmarked)."""
-    return [pytest.param(path, marks=FALSE_TRIGGER) if path.name == "handover_reference.yaml"
-            else path for path in bundled_scenarios()]  # fmt: skip
-
 
 @pytest.mark.slow
-@pytest.mark.parametrize("path", _scenarios(), ids=lambda p: p.name)
+@pytest.mark.parametrize("path", bundled_scenarios(), ids=lambda p: p.name)
 def test_bundled_scenario_runs_to_the_end_with_the_world_at_rest(path, tmp_path):
     scenario = load_scenario(path)
     report = run_scenario(scenario, replay=tmp_path / "replay.html")
