@@ -250,17 +250,18 @@ def _keep_clear_of(trajopt, scene: PlanningScene, target: Target, context, sampl
 
 def _keep_clear(trajopt, scene: PlanningScene, contact: StartContact, samples: int) -> list:
     """Keep the path at `samples` evenly spaced points clear of the scene by COLLISION_BOUND,
-    and each (part, obstacle) pair its start touches (`contact`) by its StartContact bound
-    (each constraint in a context that sees only its pairs); the objects to keep alive through
-    the solve."""
+    and each (part, obstacle) pair its start touches (`contact`) by its StartContact bound at
+    each spot (each constraint in a context that sees only its pairs); the objects to keep alive
+    through the solve."""
     plant, spots = scene.plant, np.linspace(0.0, 1.0, samples)
 
     def lower_bound(bound: float, plant_context):
         return MinimumDistanceLowerBoundConstraint(plant, bound, plant_context, None, INFLUENCE)
 
     everything = lower_bound(COLLISION_BOUND, scene.plant_context)
-    alive, escaping = [everything], [spot for spot in spots if spot < ESCAPE_SHARE]
-    if contact.pairs and escaping:
+    alive = [everything]
+    escaping = [spot for spot in spots if spot < ESCAPE_SHARE] if contact.pairs else []
+    if escaping:
         rest_root, rest = scene.pairs_context(contact.pairs, only=False)
         rest_bound = lower_bound(COLLISION_BOUND, rest)
         alive += [rest_root, rest, rest_bound]
@@ -272,8 +273,6 @@ def _keep_clear(trajopt, scene: PlanningScene, contact: StartContact, samples: i
                 constraint = lower_bound(contact.bound(pair, spot), context)
                 trajopt.AddPathPositionConstraint(constraint, spot)
                 alive.append(constraint)
-    else:
-        escaping = []
     for spot in spots[len(escaping) :]:
         trajopt.AddPathPositionConstraint(everything, spot)
     return alive
