@@ -103,6 +103,14 @@ class CycleParams:
     tug_cone_deg: float = 45.0
     """degrees off the direction from the palm to the person within which a change of the load
     is a pull toward the person; farther off it is a push across, or a knock."""
+    held_across_s: float = 0.3
+    """s a load pulled across by over `tug` (more than `tug_cone_deg` off the way to the person)
+    must be felt at every decision, the fingers not forced apart, to mean the person has hold
+    of the object: a knock is felt at one decision and forces the fingers apart, a hand closing
+    on the object from the side holds it by the time it tugs (0.3 s after closing), and a
+    person whose hand takes the object beside the robot's fingers can draw it in sideways, 4-10
+    N at 45-70 degrees off the shoulder, never a tug (the demo's person did for 0.9 s, and the
+    robot let go only as the object left its fingers)."""
     taken_s: float = 1.0
     """s after a hand was last seen at the object, or the object felt held, within which fingers
     that close on nothing mean the person drew it out (the wrist is soon farther off than

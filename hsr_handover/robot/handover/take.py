@@ -20,7 +20,8 @@ from hsr_handover.robot.handover.cycle_types import Percepts
 @dataclasses.dataclass(frozen=True)
 class Felt:
     """What one decision feels: the person has `held` of the object (the palm pulled off its
-    command, or a tug toward them at this decision and the last), or has `taken` it (drawn out
+    command, a tug toward them at this decision and the last, or a load pulled across for
+    `held_across_s`), or has `taken` it (drawn out
     of the fingers soon after a hand was at it or held it, or drawn through them)."""
 
     held: bool
@@ -51,6 +52,7 @@ class TakeDetector:
         self._tugged = False  # whether the last decision felt a tug
         self._hand_at_object = -math.inf  # when a hand was last seen at, or held, the object
         self._emptied_at: float | None = None  # when the fingers closed on nothing
+        self._across_since: float | None = None  # since when a load is pulled across, held
 
     def feel(self, p: Percepts, person: np.ndarray | None) -> Felt:
         """This decision's verdict on `p`, with `person` the point on the person last seen
@@ -63,13 +65,18 @@ class TakeDetector:
                 self._hand_at_object = p.time
         felt = self.tug(p, person) > params.tug
         tugged, self._tugged = felt and self._tugged, felt  # felt now and at the last decision
-        if tugged or (p.opening >= params.held_opening and self.pulled_across(p, person)):
+        across = p.opening >= params.held_opening and self.pulled_across(p, person)
+        if tugged or across:
             self._hand_at_object = p.time
+        if not across or self._across_since is None:
+            self._across_since = p.time if across else None
+        spread = p.opening > self._held_width + params.spread  # a knock forces the fingers apart
+        held_across = across and not spread and p.time - self._across_since >= params.held_across_s
         drawn_out = (
             p.opening < params.held_opening and p.time - self._hand_at_object <= params.taken_s
         )
-        forced_open = p.opening > self._held_width + params.spread and not self.knocked(p, person)
-        return Felt(p.pull > params.pull or tugged, drawn_out or forced_open)
+        forced_open = spread and not self.knocked(p, person)
+        return Felt(p.pull > params.pull or tugged or held_across, drawn_out or forced_open)
 
     def tug(self, p: Percepts, person: np.ndarray | None) -> float:
         """N by which the load on the wrist pulls harder toward the `person` than it did as the

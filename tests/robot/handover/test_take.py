@@ -89,6 +89,19 @@ def test_a_10_n_push_60_degrees_off_the_person_is_no_tug():
     assert _feel_twice(_toward_person(10.0, off_deg=60.0)) == [False, False]
 
 
+def test_a_pull_across_held_for_0_3_s_is_a_hold_and_a_shorter_one_is_not():
+    """A person can draw the object in sideways, their hand beside the robot's fingers: never a
+    tug toward the shoulder, but held."""
+    pull = _toward_person(6.0, off_deg=65.0)
+    detector = _detector()
+    felt = [detector.feel(_percepts(t * TICK, pull), PERSON).held for t in range(4)]
+    assert felt == [False, False, False, True]
+    detector, rest = _detector(), np.zeros(3)
+    felt = [detector.feel(_percepts(t * TICK, f), PERSON).held for t, f in
+            enumerate((pull, pull, pull, rest, pull, pull))]  # fmt: skip
+    assert felt == [False] * 6  # let up between: each pull is timed afresh
+
+
 def test_a_load_that_lightens_as_the_object_slips_is_no_tug():
     """The object's weight going from the fingers is a change straight up: not toward the
     person, however heavy the object."""
