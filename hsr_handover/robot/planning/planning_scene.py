@@ -196,11 +196,7 @@ class PlanningScene:
         ignored now) in which the obstacles named are left out too, for good: for constraints
         that must see other obstacles than the scene's own context does. Returns the copy and
         its plant context; keep the copy alive while the plant context is used."""
-        root = self.context.Clone()
-        scene_graph_context = self.scene_graph.GetMyMutableContextFromRoot(root)
-        manager = self.scene_graph.collision_filter_manager(scene_graph_context)
-        manager.ApplyTransient(self._excluding(names))  # the copy may hold transient ones
-        return root, self.plant.GetMyMutableContextFromRoot(root)
+        return self._filtered_copy(self._excluding(names))
 
     def pairs_context(
         self, pairs: Iterable[tuple[GeometryId, str]], only: bool
@@ -219,6 +215,11 @@ class PlanningScene:
         for name, parts in touching.items():
             excluded = [p for p in self.moving_parts() if p not in parts] if only else parts
             declaration.ExcludeBetween(GeometrySet(list(excluded)), self._obstacle_set([name]))
+        return self._filtered_copy(declaration)
+
+    def _filtered_copy(self, declaration: CollisionFilterDeclaration) -> tuple[Context, Context]:
+        """A copy of the scene's context with `declaration` applied on top of the filters it
+        holds (the copy may hold transient ones), and the copy's plant context."""
         root = self.context.Clone()
         scene_graph_context = self.scene_graph.GetMyMutableContextFromRoot(root)
         self.scene_graph.collision_filter_manager(scene_graph_context).ApplyTransient(declaration)
