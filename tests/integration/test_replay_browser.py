@@ -173,17 +173,18 @@ def test_the_halo_is_on_the_held_object_during_the_carry(demo):
     carry = np.linspace(times["carry"] + 0.3, times["present"] - 0.3, 6)
     with open_replay(demo.replay) as replay:
         replay.wait_for_viewer()
-        offsets, shown = [], []
+        offsets, shown, drawn = [], [], []
         for time in carry:
-            replay.frame(time)
+            drawn.append(_on_and_off(replay, TARGET, float(time)))
             shown.append(replay.shown(TARGET.mark))
             offsets.append(
                 np.linalg.norm(replay.world_position(TARGET.mark) - replay.world_position(box))
             )
-        drawn = _on_and_off(replay, TARGET, float(carry[2]))
         assert replay.errors == []
     print(f"halo: {drawn} px during the carry; off the box by {np.round(offsets, 3)} m")
-    assert all(shown) and max(offsets) < 0.03 and drawn > OVERLAY_PIXELS
+    # The driving robot may pass between the viewer's camera and the box for a moment.
+    in_view = sum(pixels > OVERLAY_PIXELS for pixels in drawn)
+    assert all(shown) and max(offsets) < 0.03 and in_view > len(carry) / 2
 
 
 def test_the_scene_map_is_grey_while_it_rests(demo):
