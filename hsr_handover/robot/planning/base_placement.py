@@ -40,7 +40,9 @@ ROUND_TURNS_DEG = (90.0, -90.0, 45.0, -45.0, 135.0, -135.0, 180.0)
 """Headings a turned base tries for a vertical approach, from facing the object as it does
 from where the robot stands: square to that first (beside a table the robot faces), then
 halfway, then from beyond the object."""
-VERTICAL = 0.3  # an approach whose horizontal part is shorter than this is vertical
+VERTICAL = 0.75
+"""An approach whose horizontal part is shorter than this (within 48 degrees of straight down:
+the top and leaning grasps) leaves the base's heading free."""
 
 
 @dataclasses.dataclass(frozen=True)

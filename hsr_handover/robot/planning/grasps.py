@@ -2,9 +2,11 @@
 goes, along which direction the hand approaches, and across which axis the fingers close.
 
 Cups are taken from the side, the fingers closing horizontally across the cup; boxes from the
-top (fingers across the shorter side) or from the side (fingers across a horizontal side that
-fits). Side approaches face away from the robot, within +-60 degrees of the direction from the
-robot to the object, so the arm never reaches round the object.
+top (fingers across the shorter side), from the side (fingers across a horizontal side that
+fits), or, last, from above leaning away from the robot (`leaning`), which reaches a box a few
+centimetres deeper in a high table than straight down does. Side approaches face away from the
+robot, within +-60 degrees of the direction from the robot to the object, so the arm never
+reaches round the object.
 """
 
 from __future__ import annotations
@@ -28,13 +30,18 @@ MIN_GRIP_HEIGHT = 0.07
 planner keeps 2 cm from the table, and the pre-grasp needs room to spare."""
 PAD_HALF_LENGTH = 0.015  # m: a side grasp's pads stay this far below an object's top
 TOP_GRIP_DEPTH = 0.03  # m the pads reach below a box's lid
+LEAN_DEG = (30.0, 45.0)
+"""Tilts from straight down of the leaning grasps, about the closing axis. Straight down, the
+arm reaches 4-6 cm short of a box 30 cm in from the near edge of a table 0.81 m high; leaning
+30-45 degrees away it reaches it. Further over, the palm sinks to the lid (`_lid_depth`)."""
 
 
 @dataclasses.dataclass(frozen=True)
 class Grasp:
     """A grasp of `label`: the pads' centre `point` (world, m), the unit `approach` (the palm's
-    z), the unit `closing` axis (the palm's y, along which the fingers close), the `opening`
-    (m between the fingertips) for the approach, and the object's `width` across the fingers."""
+        z), the unit `closing` axis (the palm's y, along which the fingers close), the `opening`
+        (m between the fingertips) for the approach, the object's `width` across the fingers, and how
+    far back along the approach the hand waits before closing in (`standoff`, m)."""
 
     label: str
     kind: str
@@ -43,11 +50,12 @@ class Grasp:
     closing: np.ndarray
     opening: float
     width: float
+    standoff: float = PREGRASP_STANDOFF
 
     @property
     def pregrasp_point(self) -> np.ndarray:
         """Where the pads' centre waits before closing in (m, world)."""
-        return self.point - PREGRASP_STANDOFF * self.approach
+        return self.point - self.standoff * self.approach
 
     @property
     def lifted_point(self) -> np.ndarray:
@@ -59,9 +67,13 @@ def _horizontal(angle: float) -> np.ndarray:
     return np.array([math.cos(angle), math.sin(angle), 0.0])
 
 
-def _grasp(shape: ObjectShape, kind: str, point, approach, closing, width: float) -> Grasp:
+def _grasp(
+    shape: ObjectShape, kind: str, point, approach, closing, width: float,
+    standoff: float = PREGRASP_STANDOFF,
+) -> Grasp:  # fmt: skip
     opening = min(width + GRIP_CLEARANCE, GRIPPER_MAX_OPENING)
-    return Grasp(shape.label, kind, np.asarray(point, float), approach, closing, opening, width)
+    return Grasp(shape.label, kind, np.asarray(point, float), approach, closing, opening, width,
+                 standoff)  # fmt: skip
 
 
 def grasp_candidates(shape: ObjectShape, robot_xy: np.ndarray) -> list[Grasp]:
@@ -102,4 +114,31 @@ def _box_grasps(shape: ObjectShape, heading: float, side_point: np.ndarray) -> l
                 faces.append((turn, approach, axes[1 - i], width))
     for _, approach, closing, width in sorted(faces, key=lambda face: face[0]):
         grasps.append(_grasp(shape, "side", side_point, approach, closing, width))
+    return grasps + _leaning_grasps(shape, heading, axes)
+
+
+def _leaning_grasps(shape: ObjectShape, heading: float, axes) -> list[Grasp]:
+    """Grasps from above leaning LEAN_DEG away from the robot about the closing axis, which
+    stays horizontal, so the pads still meet two upright faces square on: across the shorter
+    side first, the least lean first."""
+    away = _horizontal(heading)
+    grasps = []
+    for i in sorted(range(2), key=lambda i: shape.size[i]):
+        width = shape.size[i]
+        if width + GRIP_CLEARANCE > GRIPPER_MAX_OPENING:
+            continue
+        lean = axes[1 - i] * (1.0 if axes[1 - i] @ away >= 0 else -1.0)
+        for tilt in np.radians(LEAN_DEG):
+            approach = math.sin(tilt) * lean - math.cos(tilt) * np.array([0.0, 0, 1])
+            point = np.array([*shape.center, shape.bottom + shape.height - _lid_depth(tilt)])
+            # Backed off along the lean, the tilted pads' lower corners clear the lid by less.
+            standoff = PREGRASP_STANDOFF / math.cos(tilt)
+            grasps.append(_grasp(shape, "leaning", point, approach, axes[i], width, standoff))
     return grasps
+
+
+def _lid_depth(tilt: float) -> float:
+    """m the pads' centre goes below the lid with the hand tilted `tilt` (rad) from straight
+    down: the palm stays as high over the lid as in the top grasp (the target is ignored by the
+    planner, so nothing else keeps the palm off it)."""
+    return PAD_OFFSET * math.cos(tilt) - (PAD_OFFSET - TOP_GRIP_DEPTH)

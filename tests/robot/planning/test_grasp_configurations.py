@@ -148,6 +148,28 @@ def test_a_box_deep_in_a_high_table_is_taken_from_above_beside_the_table(arm_map
     assert facing.ik_solves == 0  # no base pose clear of the table to try
 
 
+def test_a_box_in_the_middle_of_a_high_table_is_taken_leaning_over_it(arm_map, monkeypatch):
+    """A generated layout's yellow box, 30 cm in from the near edge of a table 0.81 m high: from
+    straight above the arm falls 4-6 cm short of it, and no side grasp has a base pose clear
+    of the table; leaning over it, the hand reaches it from where the robot stands."""
+    table = TableEstimate(0.806, np.array([0.94, 0.0]), np.array([0.59, 1.14]), 0.0, 5500)
+    box = ObjectShape("yellow", BOX, np.array([0.946, -0.036]), np.array([0.04, 0.08]), -0.77,
+                      0.806, 0.11)  # fmt: skip
+    deep = PlanningScene(PerceivedScene(table, (box,)))
+    deep.set_positions({"base_x_joint": 0.134, "base_y_joint": 0.099, "base_yaw_joint": -0.387})
+    q_now = deep.positions()
+    result = grasp_configurations(deep, arm_map, "yellow", q_now)
+    assert result.ok, result.reason
+    assert result.grasp.kind == "leaning"
+    base = result.q_grasp[[deep.index(joint) for joint in BASE_JOINTS[:2]]]
+    assert base[0] < 0.645 - 0.2  # before the table's near edge, not round it
+    upright = lambda shape, robot_xy: [  # noqa: E731
+        grasp for grasp in grasps.grasp_candidates(shape, robot_xy) if grasp.kind != "leaning"
+    ]
+    monkeypatch.setattr(configurations, "grasp_candidates", upright)
+    assert not grasp_configurations(deep, arm_map, "yellow", q_now).ok
+
+
 def test_inverse_kinematics_refuses_a_goal_inside_the_table(scene):
     goal = PalmGoal(np.array([0.8, 0.4, TABLE_TOP - 0.05]), np.array([1.0, 0, 0]),
                     np.array([0, 1.0, 0]), 0.1)  # fmt: skip

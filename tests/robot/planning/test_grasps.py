@@ -11,7 +11,13 @@ from hsr_handover.hsr import GRIPPER_MAX_OPENING
 from hsr_handover.kinematics import hsr_arm
 from hsr_handover.robot.perception.object_shapes import BOX, CYLINDER, ObjectShape
 from hsr_handover.robot.planning.base_placement import base_pose, hand_posture
-from hsr_handover.robot.planning.grasps import MIN_GRIP_HEIGHT, PREGRASP_STANDOFF, grasp_candidates
+from hsr_handover.robot.planning.grasps import (
+    LEAN_DEG,
+    MIN_GRIP_HEIGHT,
+    PREGRASP_STANDOFF,
+    TOP_GRIP_DEPTH,
+    grasp_candidates,
+)
 
 TABLE_TOP = 0.72
 
@@ -48,6 +54,28 @@ def test_a_box_is_taken_from_the_top_across_its_short_side_then_from_its_faces()
     sides = grasps[1:]
     assert {round(g.width, 3) for g in sides} == {0.06, 0.1}
     assert all(abs(g.approach @ g.closing) < 1e-9 for g in sides)
+
+
+def test_a_box_is_last_taken_from_above_leaning_away_the_pads_square_on_its_faces():
+    box = ObjectShape("yellow", BOX, np.array([0.8, 0.3]), np.array([0.10, 0.06]), 0.3,
+                      TABLE_TOP, 0.12)  # fmt: skip
+    grasps = grasp_candidates(box, robot_xy=np.zeros(2))
+    leaning = [g for g in grasps if g.kind == "leaning"]
+    assert grasps[-len(leaning) :] == leaning and len(leaning) == 2 * len(LEAN_DEG)
+    lid = TABLE_TOP + 0.12
+    heading = np.array([0.8, 0.3, 0]) / np.hypot(0.8, 0.3)
+    tilts = []
+    for grasp in leaning:
+        assert grasp.closing[2] == 0 and abs(grasp.approach @ grasp.closing) < 1e-9
+        assert grasp.approach[2] < 0 and grasp.approach @ heading > 0  # down, away from the robot
+        tilts.append(round(math.degrees(math.acos(-grasp.approach[2])), 6))
+        # The palm (PAD_OFFSET back along the approach) stays as high over the lid as in the
+        # top grasp, and the hand waits higher over it than the top grasp's pre-grasp.
+        palm = grasp.point - 0.05 * grasp.approach
+        assert palm[2] == pytest.approx(lid - TOP_GRIP_DEPTH + 0.05)
+        assert grasp.pregrasp_point[2] > lid - TOP_GRIP_DEPTH + PREGRASP_STANDOFF
+    assert tilts == [*LEAN_DEG, *LEAN_DEG]
+    assert [round(g.width, 3) for g in leaning] == [0.06] * 2 + [0.1] * 2  # short side first
 
 
 def test_a_box_too_wide_for_the_gripper_offers_only_the_sides_that_fit():
