@@ -14,13 +14,18 @@ import numpy as np
 
 from hsr_handover.hsr import BASE_JOINTS
 from hsr_handover.robot.effectivity.arm_map import ArmEffectivity
+from hsr_handover.robot.perception.object_shapes import ObjectShape
 from hsr_handover.robot.planning.base_placement import BasePlacement, place_base
 from hsr_handover.robot.planning.grasps import Grasp, grasp_candidates
 from hsr_handover.robot.planning.inverse_kinematics import PalmGoal, solve_palm_ik
 from hsr_handover.robot.planning.outcome import Outcome
+from hsr_handover.robot.planning.perceived_scene import Capsule
 from hsr_handover.robot.planning.planning_scene import PlanningScene
 
 UNREACHABLE = "unreachable"
+IN_THE_WAY = 0.05
+"""m: a perceived part of the person (margin included) nearer the object's footprint than this
+leaves the fingers no room round it, and an unreachable grasp's reason names it."""
 
 
 @dataclasses.dataclass(frozen=True, kw_only=True)
@@ -63,7 +68,21 @@ def grasp_configurations(
                 q_lifted=lifted.q, ik_solves=solves,
             )  # fmt: skip
     reason = f"{UNREACHABLE}: no grasp of {label!r} passed inverse kinematics"
+    near = _person_near(shape, scene.scene.person)
+    if near is not None:
+        reason += f" (the person's {near.part or 'body'} is within {IN_THE_WAY * 100:.0f} cm of it)"
     return GraspConfigurations(ok=False, reason=reason, ik_solves=solves)
+
+
+def _person_near(shape: ObjectShape, person: tuple[Capsule, ...]) -> Capsule | None:
+    """The capsule of the perceived person nearest the object's solid, if it is within
+    IN_THE_WAY of the footprint's enclosing circle at any height of the object."""
+    heights = np.linspace(shape.bottom, shape.bottom + shape.height, 5)
+    axis = np.column_stack([np.tile(shape.center, (len(heights), 1)), heights])
+    gaps = [float(capsule.distance(axis).min()) - shape.radius for capsule in person]
+    if not gaps or min(gaps) >= IN_THE_WAY:
+        return None
+    return person[int(np.argmin(gaps))]
 
 
 def _placements(

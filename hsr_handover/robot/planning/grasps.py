@@ -39,9 +39,9 @@ arm reaches 4-6 cm short of a box 30 cm in from the near edge of a table 0.81 m 
 @dataclasses.dataclass(frozen=True)
 class Grasp:
     """A grasp of `label`: the pads' centre `point` (world, m), the unit `approach` (the palm's
-        z), the unit `closing` axis (the palm's y, along which the fingers close), the `opening`
-        (m between the fingertips) for the approach, the object's `width` across the fingers, and how
-    far back along the approach the hand waits before closing in (`standoff`, m)."""
+    z), the unit `closing` axis (the palm's y, along which the fingers close), the `opening`
+    (m between the fingertips) for the approach, the object's `width` across the fingers, and
+    how far back along the approach the hand waits before closing in (`standoff`, m)."""
 
     label: str
     kind: str

@@ -170,6 +170,21 @@ def test_a_box_in_the_middle_of_a_high_table_is_taken_leaning_over_it(arm_map, m
     assert not grasp_configurations(deep, arm_map, "yellow", q_now).ok
 
 
+def test_an_object_under_the_persons_hand_is_unreachable_and_the_reason_says_whose_hand(arm_map):
+    table = TableEstimate(0.72, np.array([0.9, 0.0]), np.array([0.6, 1.0]), 0.0, 5500)
+    box = ObjectShape("yellow", BOX, np.array([0.85, 0.0]), np.array([0.05, 0.08]), 0.0,
+                      0.72, 0.1)  # fmt: skip
+    forearm = Capsule(np.array([1.3, 0.1, 0.9]), np.array([0.85, 0.0, 0.86]), 0.095,
+                      "l_elbow-l_wrist")  # fmt: skip
+    scene = PlanningScene(PerceivedScene(table, (box,), (forearm,)))
+    result = grasp_configurations(scene, arm_map, "yellow", scene.positions())
+    assert not result.ok and result.reason.startswith(UNREACHABLE)
+    assert "the person's l_elbow-l_wrist is within 5 cm" in result.reason
+    away = dataclasses.replace(forearm, start=forearm.start + 0.5, end=forearm.end + [0.5, 0, 0])
+    clear = PlanningScene(PerceivedScene(table, (box,), (away,)))
+    assert grasp_configurations(clear, arm_map, "yellow", clear.positions()).ok
+
+
 def test_inverse_kinematics_refuses_a_goal_inside_the_table(scene):
     goal = PalmGoal(np.array([0.8, 0.4, TABLE_TOP - 0.05]), np.array([1.0, 0, 0]),
                     np.array([0, 1.0, 0]), 0.1)  # fmt: skip
