@@ -253,7 +253,7 @@ def _carry_and_after(bench: Bench, arm_map, person, grasp: Plan) -> None:
     at_hand = carry.goal
     bench.plan("follow", "seeded", functools.partial(
         plan_follow, planning, _follow_goal(bench, at_hand), at_hand, np.zeros_like(at_hand), held,
-        limits), holding)  # fmt: skip
+        limits, arm_map), holding)  # fmt: skip
     motion = carry.motions[-1]
     played = bench.rng.uniform(*PUT_BACK_FROM) * motion.duration
     came = [motion.state(t)[0] for t in np.linspace(0.0, played, 16)]

@@ -141,7 +141,8 @@ class PerceivedPlanner:
         palm = self.palm_pose(q).rotation().matrix()  # the hand keeps the turn it has
         goal = PalmGoal(np.asarray(aim, dtype=float), palm[:, 2], palm[:, 1],
                         2 * q[scene.index(GRIPPER_JOINT)])  # fmt: skip
-        return self._viewed(plan_follow(scene, goal, q, v, held, self.limits), watch)
+        plan = plan_follow(scene, goal, q, v, held, self.limits, self._arm_map)
+        return self._viewed(plan, watch)
 
     def put_back(
         self, q: np.ndarray, held: Held, lifted: np.ndarray, came: Sequence[np.ndarray] = ()

@@ -1,8 +1,9 @@
 """Following a person's hand with the object (paper 3.3: the robot brings the object to the
 receiver's hand): a state-to-state move (ruckig) from wherever the arm is, to hold the object
 out at an aim in front of the hand, or at the nearest point round it where the object fits
-beside the perceived hand (`offer.offer_points`); the base steps when the arm alone cannot
-reach. The move is checked for clearance like any timed path."""
+beside the perceived hand (`offer.offer_points`); where IK from the arm as it is fails, it
+starts again from the arm's effectivity map's nodes round the point, and the base steps when
+the arm alone cannot reach. The move is checked for clearance like any timed path."""
 
 from __future__ import annotations
 
@@ -10,6 +11,8 @@ import dataclasses
 
 import numpy as np
 
+from hsr_handover.robot.effectivity.arm_map import ArmEffectivity
+from hsr_handover.robot.planning.handover_pose import other_seeds
 from hsr_handover.robot.planning.inverse_kinematics import IkResult, PalmGoal, solve_palm_ik
 from hsr_handover.robot.planning.offer import object_extent, offer_points
 from hsr_handover.robot.planning.plan import Motion, Plan
@@ -32,11 +35,12 @@ def plan_follow(
     v: np.ndarray,
     held: Held | None,
     limits: JointLimits,
+    arm_map: ArmEffectivity | None = None,
 ) -> Plan:
     """From `q` at velocities `v` (plant order), the hand to `goal`, holding `held` (None:
     nothing); where the object there would be inside the person's perceived capsules, to the
-    nearest point round `goal.point` where it fits. One "follow" motion, or not ok with the
-    reason of the last point tried."""
+    nearest point round `goal.point` where it fits. IK is retried from `arm_map`'s nodes
+    (None: not). One "follow" motion, or not ok with the reason of the last point tried."""
     ignore = () if held is None else (held.label,)
     extent = object_extent(None if held is None else held.shape)
     reason = "no point at the hand clear of the person"
@@ -44,7 +48,7 @@ def plan_follow(
     with holding(scene, held, q):
         for point in offer_points(goal.point, scene.scene.person, extent):
             at_point = dataclasses.replace(goal, point=point)
-            motion, reason = _move(scene, q, v, at_point, ignore, limits, watch)
+            motion, reason = _move(scene, q, v, at_point, ignore, limits, watch, arm_map)
             if motion is not None:
                 goal_q = motion.state(motion.duration)[0]
                 return Plan(ok=True, reason="ok", target=FOLLOW, motions=(motion,),
@@ -60,11 +64,12 @@ def _move(
     ignore: tuple[str, ...],
     limits: JointLimits,
     watch: Stopwatch,
+    arm_map: ArmEffectivity | None,
 ) -> tuple[Motion | None, str]:
     """The motion that brings the hand to `goal` clear of the scene and "ok", or None and
     why not."""
     with watch.stage("ik"):
-        found = _palm_ik(scene, goal, q, ignore)
+        found = _palm_ik(scene, goal, q, ignore, arm_map)
     if not found.ok:
         return None, found.reason
     with watch.stage("timing"):
@@ -80,9 +85,21 @@ def _move(
 
 
 def _palm_ik(
-    scene: PlanningScene, goal: PalmGoal, q: np.ndarray, ignore: tuple[str, ...]
+    scene: PlanningScene,
+    goal: PalmGoal,
+    q: np.ndarray,
+    ignore: tuple[str, ...],
+    arm_map: ArmEffectivity | None,
 ) -> IkResult:
-    """IK for the hand at `goal`: with the base where it stands at `q`, else with a step of the
-    base (out of the arm's reach)."""
+    """IK for the hand at `goal`: with the base where it stands at `q`, from the arm as it is,
+    then from the map's nodes round the point (a hand moved a few cm can need the elbow on the
+    other side of a joint limit); else with a step of the base (out of the arm's reach)."""
     found = solve_palm_ik(scene, goal, q, ignore=ignore, base_fixed=True)
-    return found if found.ok else solve_palm_ik(scene, goal, q, ignore=ignore)
+    if found.ok:
+        return found
+    if arm_map is not None:
+        for _, seed in other_seeds(scene, arm_map, goal, q, q)[:-1]:  # the last: q itself
+            retried = solve_palm_ik(scene, goal, seed, ignore=ignore, base_fixed=True)
+            if retried.ok:
+                return retried
+    return solve_palm_ik(scene, goal, q, ignore=ignore)

@@ -10,6 +10,8 @@ from hsr_handover.hsr import BASE_JOINTS
 from hsr_handover.robot.effectivity.arm_map import load_or_build
 from hsr_handover.robot.effectivity.person_map import HumanArm
 from hsr_handover.robot.handover.perceived_planner import PerceivedPlanner
+from hsr_handover.robot.planning import follow
+from hsr_handover.robot.planning.inverse_kinematics import IkResult
 from hsr_handover.robot.planning.perceived_scene import Capsule, PerceivedScene
 
 
@@ -104,3 +106,30 @@ def test_newer_percepts_give_a_new_planner_and_leave_the_old_one_planning_in_its
     ends = [plan.motions[-1].state(plan.motions[-1].duration)[0] for plan in (beside, at_aim)]
     assert np.linalg.norm(planner.palm(ends[0]) - aim) > 0.05  # round the forearm
     np.testing.assert_allclose(planner.palm(ends[1]), aim, atol=0.02)  # nothing in the way
+
+
+def test_a_follow_whose_first_ik_fails_starts_again_from_the_arm_map_before_stepping(
+    planner, monkeypatch
+):
+    """The IK from the arm as it is made to fail: the retry starts from the effectivity map's
+    nodes round the point with the base where it stands, and reaches the hand so."""
+    solve = follow.solve_palm_ik
+    calls = []
+
+    def first_fails(scene, goal, seed, *args, **kwargs):
+        calls.append((seed.copy(), kwargs.get("base_fixed", False)))
+        if len(calls) == 1:
+            return IkResult(ok=False, q=seed, reason="no IK solution (made to fail)")
+        return solve(scene, goal, seed, *args, **kwargs)
+
+    monkeypatch.setattr(follow, "solve_palm_ik", first_fails)
+    q = _arm_out(planner)
+    goal = planner.palm(q) + [0.0, 0.0, 0.05]
+    planned = planner.follow(q, np.zeros_like(q), goal, None)
+    assert planned.ok, planned.reason
+    seed, base_fixed = calls[-1]
+    assert len(calls) >= 2 and base_fixed
+    assert not np.allclose(seed, q)  # an arm from the map, not the arm as it is
+    np.testing.assert_allclose(_base(planner, seed), _base(planner, q))
+    end = planned.motions[-1].state(planned.motions[-1].duration)[0]
+    np.testing.assert_allclose(planner.palm(end), goal, atol=0.02)
