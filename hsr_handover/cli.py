@@ -454,21 +454,9 @@ def _bag(args: argparse.Namespace) -> int:
     return 0
 
 
-def cycle_outcome(cycle) -> str:
-    """The run's outcome: `done`; `failed, CLASS: reason`; `not recognised` (it watched to the
-    end); or `timeout: PHASE when the run ended` (the cycle was not over)."""
-    if cycle.failure is not None:  # decided, though the retreat may still be under way
-        return f"failed, {cycle.failure.value}: {cycle.reason}"
-    if cycle.phase.value == "done":
-        return "done"
-    if cycle.phase.value == "watch" and cycle.target is None:
-        return "not recognised"
-    return f"timeout: {cycle.phase.value} when the run ended"
-
-
 def print_cycle(cycle, person_holds: str) -> None:
     """What the robot did: the outcome, the target and when each phase began."""
-    print(f"handover:    {cycle_outcome(cycle)}")
+    print(f"handover:    {cycle.outcome}")
     target = cycle.target or "none recognised"
     if cycle.target:
         target += f" (recognised at {cycle.recognised_time:.1f} s)"

@@ -11,7 +11,7 @@ import sys
 
 import pytest
 
-from hsr_handover.cli import SimulatedTimeBar, cycle_outcome, print_cycle
+from hsr_handover.cli import SimulatedTimeBar, print_cycle
 from hsr_handover.experiments.reporting import format_value
 from hsr_handover.robot.handover.cycle_types import CycleRecord, Failure, Phase
 from tests.meshcat_html import meshcat_commands
@@ -161,7 +161,7 @@ def test_the_run_says_when_the_robot_watched_from_a_raised_torso(capsys, lift: f
 def test_a_run_ends_in_one_of_the_documented_outcomes(cycle: CycleRecord, outcome: str):
     """Never a bare phase name: a run in which nothing was recognised says so, and one cut
     short by its duration says where the cycle was."""
-    assert cycle_outcome(cycle) == outcome
+    assert cycle.outcome == outcome
 
 
 @pytest.mark.parametrize(

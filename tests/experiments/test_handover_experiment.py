@@ -4,6 +4,7 @@ The whole cycle scored against truth end to end is in test_handover_cycle.py."""
 
 from __future__ import annotations
 
+import csv
 import dataclasses
 import json
 import math
@@ -213,10 +214,11 @@ def test_results_are_written_as_csv_json_text_and_a_figure(base, box_trial, refu
     experiment = _experiment(base, box_trial, refusal)
     summary = summarise(experiment)
     write_csv(experiment.rows(), tmp_path / "h.csv")
-    lines = (tmp_path / "h.csv").read_text().splitlines()
-    assert len(lines) == 1 + 5 and "trial crashed" in lines[-1]
+    with open(tmp_path / "h.csv", newline="") as file:
+        header, *cells = csv.reader(file)
+    assert len(cells) == 5 and "trial crashed" in cells[-1]
+    assert cells[0][header.index("outcome")] == "done"  # the outcome as `run` prints it
     # Where each person's arm really pointed, crashed trials too: the wrong-object trials' why
-    header, *cells = (line.split(",") for line in lines)
     column = header.index("arm_nearest")
     names = {obj.name for obj in base.objects}
     assert all(row[column] in names for row in cells)
@@ -225,7 +227,7 @@ def test_results_are_written_as_csv_json_text_and_a_figure(base, box_trial, refu
     text = "\n".join(summary_lines(summary))
     assert "86.6 %" in text and "90.0 %" in text and "table contact 1" in text
     assert "watched from a raised torso in 1 trials" in text
-    assert "0.42" in lines[2]  # the trial's arm lift, in its row
+    assert "0.42" in cells[1]  # the trial's arm lift, in its row
     first = header.index("first_recognised")
     assert cells[0][first] == "yellow_box" and cells[0][header.index("corrected")] == "False"
     assert "the person corrected the robot in 0" in text

@@ -118,7 +118,7 @@ def judge(
         "first_recognised": _name(names, cycle.first_target) or recognised,
         "corrected": corrected, "corrected_s": cycle.corrected_time - trial.pointing_onset,
         "repeated": not math.isnan(repeated), "repeated_s": repeated - trial.pointing_onset,
-        "outcome": cycle.phase.value,
+        "outcome": cycle.outcome,
         "robot_failure": cycle.failure.value if cycle.failure else "", "reason": cycle.reason,
         "retrieved": retrieved, "handed_over": handed_over, "person_holds": holds,
         "graceful": graceful, "failure": failure,

@@ -142,3 +142,15 @@ class CycleRecord:
     @property
     def over(self) -> bool:
         return self.phase in TERMINAL_PHASES
+
+    @property
+    def outcome(self) -> str:
+        """How the cycle ended: `done`; `failed, CLASS: reason`; `not recognised` (it watched
+        to the end); or `timeout: PHASE when the run ended` (the cycle was not over)."""
+        if self.failure is not None:  # decided, though the retreat may still be under way
+            return f"failed, {self.failure.value}: {self.reason}"
+        if self.phase is Phase.DONE:
+            return "done"
+        if self.phase is Phase.WATCH and self.target is None:
+            return "not recognised"
+        return f"timeout: {self.phase.value} when the run ended"
