@@ -12,7 +12,7 @@ import dataclasses
 import numpy as np
 
 from hsr_handover.robot.effectivity.arm_map import ArmEffectivity
-from hsr_handover.robot.planning.handover_pose import other_seeds
+from hsr_handover.robot.planning.handover_pose import map_seeds
 from hsr_handover.robot.planning.inverse_kinematics import IkResult, PalmGoal, solve_palm_ik
 from hsr_handover.robot.planning.offer import object_extent, offer_points
 from hsr_handover.robot.planning.plan import Motion, Plan
@@ -98,7 +98,7 @@ def _palm_ik(
     if found.ok:
         return found
     if arm_map is not None:
-        for _, seed in other_seeds(scene, arm_map, goal, q, q)[:-1]:  # the last: q itself
+        for _, seed in map_seeds(scene, arm_map, goal, q):
             retried = solve_palm_ik(scene, goal, seed, ignore=ignore, base_fixed=True)
             if retried.ok:
                 return retried

@@ -150,10 +150,20 @@ def other_seeds(
     seed: np.ndarray,
     q_now: np.ndarray,
 ) -> list[tuple[str, np.ndarray]]:
-    """Seeds for a retry at `goal` with the base where `seed` has it: the arm at each of the
-    NEIGHBOUR_SEEDS map nodes nearest the palm (eq. 11 blends them; one alone can lie on the
-    other side of a joint limit or an obstacle), the hand turned to the goal; then the arm as
-    it is at `q_now` (the previous plan's end)."""
+    """Seeds for a retry at `goal` with the base where `seed` has it: `map_seeds`, then the
+    arm as it is at `q_now` (the previous plan's end)."""
+    as_it_is = seed.copy()
+    arm_at = [scene.index(joint) for joint in (*ARM_JOINTS, TORSO_JOINT)]
+    as_it_is[arm_at] = q_now[arm_at]
+    return [*map_seeds(scene, arm_map, goal, seed), ("arm as it is", as_it_is)]
+
+
+def map_seeds(
+    scene: PlanningScene, arm_map: ArmEffectivity, goal: PalmGoal, seed: np.ndarray
+) -> list[tuple[str, np.ndarray]]:
+    """`seed` with the arm at each of the NEIGHBOUR_SEEDS map nodes nearest the palm at `goal`
+    (eq. 11 blends them; one alone can lie on the other side of a joint limit or an obstacle),
+    the hand turned to the goal, the base where `seed` has it."""
     x, y, yaw = (scene.index(joint) for joint in BASE_JOINTS)
     c, s = math.cos(seed[yaw]), math.sin(seed[yaw])
     to_base = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
@@ -164,10 +174,6 @@ def other_seeds(
     for rank, node in enumerate(nearest):
         arm = hand_posture(arm_map.joints[node], to_base @ goal.approach, to_base @ goal.closing)
         seeds.append((f"map node {rank + 1}", with_arm(scene, seed, arm)))
-    as_it_is = seed.copy()
-    arm_at = [scene.index(joint) for joint in (*ARM_JOINTS, TORSO_JOINT)]
-    as_it_is[arm_at] = q_now[arm_at]
-    seeds.append(("arm as it is", as_it_is))
     return seeds
 
 
