@@ -30,6 +30,10 @@ PERSON_MARGIN = 0.05
 """m added to every capsule: the lifted skeleton is off by a few cm."""
 UNSEEN_EXTENSION = 0.5  # m a table's top may run on past the edge of the camera's view
 ROBOT_KEEP = 0.45  # m: an unseen table is never assumed nearer than this to the camera
+OVER_TABLE_EDGE = 0.03
+"""m past the table's outline, and below its top, that a lifted point still counts as on it: a
+keypoint's pixel on the top's far edge is lifted onto the edge's face (the lifting takes the
+nearest quarter of its window), and the depth there errs by a centimetre or two."""
 BODY_COLUMN_RADIUS = 0.3
 """m: a person's body and seat seen from above (a chair's seat is about 45 cm square, the
 trunk about 35 cm deep); the column also stands for legs and back the camera does not see."""
@@ -52,6 +56,9 @@ _ELBOWS = {keypoint_index("r_elbow"), keypoint_index("l_elbow")}
 ARM_PARTS = frozenset(name for bone, name in _BONE_NAMES.items() if _ELBOWS & set(bone))
 """The upper arms and forearms: the parts of a seated person that move."""
 _WRISTS = (keypoint_index("r_wrist"), keypoint_index("l_wrist"))
+LOWER_BODY = tuple(
+    keypoint_index(f"{side}_{joint}") for side in "rl" for joint in ("hip", "knee", "ankle")
+)
 _ARM = ("shoulder", "elbow", "wrist")
 
 
@@ -86,11 +93,16 @@ def person_capsules(
     camera_position: np.ndarray,
     margin: float = PERSON_MARGIN,
     seen_at: float = math.nan,
+    table: TableEstimate | None = None,
 ) -> tuple[Capsule, ...]:
     """Capsules around the bones of a lifted COCO-18 skeleton (18 x 3 points, 18 confidences)
-    whose two keypoints were seen, seen from `camera_position` (3,) at time `seen_at` (s)."""
+    whose two keypoints were seen, seen from `camera_position` (3,) at time `seen_at` (s);
+    with the perceived `table`, a lower-body keypoint lifted over its top is not seen."""
     points = np.array(points, dtype=float)
     seen = (np.asarray(confidence) > 0) & np.isfinite(points).all(axis=1)
+    if table is not None:
+        lower = np.array(LOWER_BODY)
+        seen[lower] &= ~over_table(points[lower], table)
     for side in ("r", "l"):
         shoulder, elbow, wrist = (keypoint_index(f"{side}_{joint}") for joint in _ARM)
         if not (seen[shoulder] and seen[wrist]) or seen[elbow]:
@@ -110,6 +122,19 @@ def person_capsules(
         capsules.append(Capsule(start, end, radius + margin, _BONE_NAMES[a, b], seen_at))
     column = _body_column(points, seen, camera_position, margin, seen_at)
     return tuple(capsules) + column
+
+
+def over_table(points: np.ndarray, table: TableEstimate) -> np.ndarray:
+    """(N,) bool: which points (N, 3; m, world) lie over the `table`'s top, its outline
+    widened by OVER_TABLE_EDGE and its top lowered by as much. A seated person's hips are
+    below the top and a standing person's stand clear of its edge; a hip lifted over it is
+    the top's far edge or an object seen in front of the body at the hip's pixel (a seated
+    person's hip just visible over the table's edge, its pixel a few off), and would draw a
+    torso across the table that no grasp may pass."""
+    points = np.asarray(points, dtype=float).reshape(-1, 3)
+    local = np.abs(table.to_local(points[:, :2]))
+    inside = np.all(local <= table.size / 2 + OVER_TABLE_EDGE, axis=1)
+    return inside & (points[:, 2] >= table.height - OVER_TABLE_EDGE)
 
 
 def hidden_elbow(

@@ -31,7 +31,8 @@ class PerceivedSceneEstimator(LeafSystem):
     Output `scene`: a PerceivedScene: the fitted table (its edges at the edge of the camera's
     view pushed out: the top may run on unseen), each detected object as a cylinder or box
     standing on it (none before the table is seen), the person's capsules widened by
-    `person_margin` (m) and stamped with the time, and the depth image they were seen in (a
+    `person_margin` (m) and stamped with the time (a hip, knee or ankle lifted over the table
+    left out), and the depth image they were seen in (a
     `DepthView`, by which the supervisor forgets what the camera now sees through). `camera`
     holds the intrinsics of the depth image's size.
     """
@@ -66,7 +67,7 @@ class PerceivedSceneEstimator(LeafSystem):
         skeleton = self._skeleton.Eval(context)
         person = person_capsules(
             skeleton.points, skeleton.confidence, pose.translation(), self._margin,
-            seen_at=context.get_time(),
+            seen_at=context.get_time(), table=table,
         )  # fmt: skip
         depth = np.array(self._depth.Eval(context).data[:, :, 0])  # kept: the image is reused
         X_WC = pose.GetAsMatrix4()

@@ -165,6 +165,30 @@ def test_an_arm_whose_elbow_is_hidden_keeps_its_capsules():
     assert not unseen & {"r_shoulder-r_elbow", "r_elbow-r_wrist"}
 
 
+def test_a_hip_lifted_over_the_table_draws_no_torso_across_it():
+    """A seated person's hip just visible over the table's far edge, its pixel a few off, is
+    lifted onto the edge or an object in front of the body; a hip below the top, behind the
+    edge, is the person's."""
+    points, confidence = _skeleton()
+    table = TableEstimate(0.8, np.array([1.5, 0.0]), np.array([1.0, 0.6]), math.pi / 2, 3000)
+    camera = np.zeros(3)
+    hip = keypoint_index("r_hip")
+
+    def parts():
+        return {c.part for c in person_capsules(points, confidence, camera, table=table)}
+
+    assert "neck-r_hip" in parts()  # (2.0, -0.1, 0.9): 20 cm behind the far edge
+    points[hip] = (1.78, -0.1, 0.82)  # on the far edge's top, 2 cm in
+    assert "neck-r_hip" not in parts()
+    assert "neck-r_hip" in {c.part for c in person_capsules(points, confidence, camera)}
+    points[hip] = (1.6, -0.1, 0.9)  # on a box on the table
+    assert "neck-r_hip" not in parts()
+    points[hip] = (1.85, -0.1, 0.6)  # below the top, past the edge: a seated hip
+    assert "neck-r_hip" in parts()
+    points[hip] = (1.6, -0.1, 0.7)  # under the top, as a seated person's knee is
+    assert "neck-r_hip" in parts()
+
+
 def test_open_edges_run_on_unseen_but_never_under_the_robot():
     table = TableEstimate(TABLE_TOP, np.array([1.0, 0.0]), np.array([0.3, 1.0]), 0.0, 3000)
     np.testing.assert_allclose(extend_past_view(table, np.zeros(2)).size, table.size)

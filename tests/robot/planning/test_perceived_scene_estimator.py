@@ -10,6 +10,7 @@ import pytest
 from pydrake.math import RigidTransform, RotationMatrix
 from pydrake.systems.sensors import ImageDepth32F
 
+from hsr_handover.interface.coco18 import keypoint_index
 from hsr_handover.interface.pinhole import PinholeCamera
 from hsr_handover.robot.perception.object_detection import Detection, DetectionResult
 from hsr_handover.robot.perception.object_shapes import BOX
@@ -90,3 +91,20 @@ def test_the_scene_keeps_the_depth_view_it_was_seen_in():
 def test_a_negative_margin_is_refused_by_name():
     with pytest.raises(ValueError, match="person_margin"):
         PerceivedSceneEstimator(CAMERA, person_margin=-0.01)
+
+
+def test_a_hip_lifted_onto_the_fitted_table_draws_no_torso():
+    """The table on the `table` port tells a hip lifted onto its top from the person's."""
+    system = PerceivedSceneEstimator(CAMERA)
+    table = TableEstimate(TABLE_TOP, np.array([0.9, 0.0]), np.array([1.0, 0.6]), 0.0, 5000)
+    context, _ = _fix_inputs(system, table)
+    points, confidence = _skeleton()
+    points[keypoint_index("r_hip")] = (1.3, -0.1, TABLE_TOP + 0.01)
+    system.GetInputPort("skeleton").FixValue(
+        context, Skeleton(np.zeros((18, 2)), points, confidence)
+    )
+    parts = {capsule.part for capsule in system.GetOutputPort("scene").Eval(context).person}
+    assert "neck-r_hip" not in parts and "neck-r_shoulder" in parts
+    system.GetInputPort("table").FixValue(context, TableReport(None, 0, "not seen"))
+    parts = {capsule.part for capsule in system.GetOutputPort("scene").Eval(context).person}
+    assert "neck-r_hip" in parts
