@@ -33,6 +33,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from hsr_handover.robot.intent.judging import (
+    ARM_NOT_RAISED,
     GAZE_ELSEWHERE,
     NO_SKELETON,
     RECOGNISED,
@@ -43,15 +44,11 @@ from hsr_handover.robot.intent.judging import (
     observe,
 )
 from hsr_handover.robot.intent.params import IntentParams
-from hsr_handover.robot.intent.person_rays import bearing_errors_deg, gaze_ray, pitch_errors_deg
-from hsr_handover.robot.intent.rays import Ray
+from hsr_handover.robot.intent.person_rays import gaze_ray, pitch_errors_deg
 from hsr_handover.robot.intent.smoothing import RaySmoother
+from hsr_handover.robot.intent.wrist_trail import WristTrail
 from hsr_handover.robot.perception.facing import SteadyFacing
 from hsr_handover.robot.perception.keypoint_filter import KeypointFilter
-
-HELD_MOVED_M = 0.04
-"""m the target must be seen from where it stood to count as lifted into the robot's hand (the
-centre of a detected object wanders 1-2 cm between frames)."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -95,9 +92,9 @@ class IntentTracker:
 
     After that it watches for a correction: a person who sees the robot fetch the wrong object
     asks again. Once no arm has pointed for `smoothing_s` (the first gesture's rays have left
-    the window), a new gesture that asks for another object than the target, by the same
-    dwell, with the eyes not on a point below it nor on the object the robot holds, is the
-    `correction` (latched too). The objects are judged where they were last seen."""
+    the window), a new gesture (its wrist risen to where it points: `WristTrail`) that asks
+    for another object than the target, by the same dwell, with the eyes not on a point below
+    it, is the `correction` (latched too). The objects are judged where they were last seen."""
 
     def __init__(self, params: IntentParams | None = None):
         self.params = IntentParams() if params is None else params
@@ -109,7 +106,7 @@ class IntentTracker:
         self._shoulders = SteadyFacing()
         self._correcting = _CorrectionWatch()
         self._objects: dict[str, np.ndarray] = {}  # each candidate where last seen
-        self._stood: np.ndarray | None = None  # the target where it was when recognised
+        self._wrists = WristTrail(self.params.correction_rise_m, self.params.correction_rise_s)
         self._correction_params = dataclasses.replace(
             self.params, gaze_tolerance_deg=self.params.correction_gaze_tolerance_deg
         )
@@ -124,14 +121,14 @@ class IntentTracker:
             state.target, state.confidence, state.recognised_time, objects=state.objects
         )
         tracker._objects = dict(state.objects)
-        tracker._stood = tracker._objects.get(state.target)
         return tracker
 
     def __deepcopy__(self, memo: dict) -> IntentTracker:
         """The params and states are frozen and the facings are replaced, never changed in
-        place: only the smoother's histories need copying."""
+        place: only the histories need copying."""
         clone = copy.copy(self)
         clone._smoother = copy.deepcopy(self._smoother, memo)
+        clone._wrists = copy.deepcopy(self._wrists, memo)
         clone._keypoints = copy.deepcopy(self._keypoints, memo)
         return clone
 
@@ -167,8 +164,8 @@ class IntentTracker:
         one, at where it carries it."""
         if self._keypoints is not None:
             points, confidence = self._keypoints.update(time, points, confidence)
+        self._wrists.add(time, points, confidence)
         self._objects = self._objects | {label: center for label, center in candidates}
-        held = self._held(candidates)
         candidates = list(self._objects.items())
         frame = nothing_to_judge(confidence, candidates)
         observed = None
@@ -181,28 +178,17 @@ class IntentTracker:
             frame = judge(observed, candidates, self.params)
         state = dataclasses.replace(self.state_, objects=tuple(self._objects.items()))
         if state.target is not None:
-            self.state_ = self._correction(dataclasses.replace(state, frame=frame), time,
-                                           observed, candidates, held)  # fmt: skip
+            self.state_ = self._correction(
+                dataclasses.replace(state, frame=frame), time, observed, candidates
+            )
             return self.state_
         candidate, since = _dwell(state.candidate, state.candidate_since, frame, time)
         target, recognised = None, math.nan
         if self._dwelt(candidate, since, frame, time):
             target, recognised = candidate, time
-            self._stood = self._objects.get(candidate)
         self.state_ = IntentState(target, frame.clarity if target else 0.0, recognised, candidate,
                                   since, frame, objects=state.objects)  # fmt: skip
         return self.state_
-
-    def _held(self, candidates: Sequence[tuple[str, np.ndarray]]) -> np.ndarray | None:
-        """Where the target is in the robot's hand: where this frame shows it, or else where it
-        was last seen once lifted (HELD_MOVED_M from where it stood when recognised), the hand
-        since gone out of the camera's view; None before the target, or never seen held."""
-        target = self.state_.target
-        last = None if target is None else self._objects.get(target)  # this frame's, if seen
-        if last is None or any(label == target for label, _ in candidates):
-            return last
-        lifted = self._stood is not None and np.linalg.norm(last - self._stood) > HELD_MOVED_M
-        return last if lifted else None
 
     def _below(self, observed: Observation, center: np.ndarray) -> bool:
         """Whether the eyes look more than `correction_below_deg` below `center`: at a hand
@@ -215,27 +201,9 @@ class IntentTracker:
         below = -pitch_errors_deg(level, center[None])[0]
         return below > self.params.correction_below_deg
 
-    def _on_held(self, gaze: Ray | None, held: np.ndarray | None, asked: np.ndarray) -> bool:
-        """Whether the eyes (`gaze`, as the frame was judged) may be on the object the robot
-        holds (at `held`, where last seen; None if never) rather than on the one the new
-        gesture asks for (at `asked`): within the request's own tolerance of it across, and
-        within its pitch tolerance too or nearer it than `asked` across. A person watches what
-        the robot brings: eyes on the cup in the hand, a cup on the table behind it, and a
-        resting arm read straight toward both are not a correction. Across decides where the
-        pitch cannot: an arm held out to receive can pass 19 cm from the cup beside the box in
-        the hand, the eyes 1 degree across from the box and 17 from the cup, read 9-13 degrees
-        below the box through the realistic detector's face. Across decides only by more than
-        `held_across_margin_deg`: eyes 4.9 degrees across from a cup carried past them and 5.0
-        from the box asked for, 19 below the cup and 5 below the box, are on the box. The
-        price: a correction whose eyes pass that near the object held is not read."""
-        if held is None or gaze is None:
-            return False
-        across, across_asked = bearing_errors_deg(gaze, np.array([held, asked]))
-        above = pitch_errors_deg(gaze, held[None])[0]
-        params = self.params
-        level = abs(above) <= params.gaze_pitch_tolerance_deg
-        nearer = across + params.held_across_margin_deg < across_asked
-        return across <= params.gaze_tolerance_deg and (level or nearer)
+    def _rose(self, observed: Observation) -> bool:
+        """Whether the pointing arm's wrist has just risen to where it is (a new gesture)."""
+        return observed.arm is not None and self._wrists.rose(observed.arm)
 
     def _dwelt(self, candidate: str | None, since: float, frame: FrameJudgement, time: float):
         """Whether `candidate` has been asked for `t_max` with the face seen now."""
@@ -248,11 +216,10 @@ class IntentTracker:
         time: float,
         observed: Observation | None,
         candidates: Sequence[tuple[str, np.ndarray]],
-        held: np.ndarray | None = None,
     ) -> IntentState:
         """`state` with a correction, once a new gesture has asked for another object than the
-        target for `t_max`, the eyes no more than `correction_below_deg` below it and not on
-        the object the robot holds (at `held`, where seen now)."""
+        target for `t_max`, its wrist risen to where it points when the dwell starts and the
+        eyes no more than `correction_below_deg` below the object."""
         watch = self._correcting
         if state.correction is not None:
             return state
@@ -270,11 +237,10 @@ class IntentTracker:
             return state
         frame = judge(observed, others, self._correction_params)
         asked = None if frame.candidate is None else dict(others)[frame.candidate]
-        refused = asked is not None and (
-            self._below(observed, asked) or self._on_held(frame.gaze, held, asked)
-        )
-        if refused:
+        if asked is not None and self._below(observed, asked):
             frame = dataclasses.replace(frame, candidate=None, status=GAZE_ELSEWHERE)
+        elif asked is not None and frame.candidate != watch.candidate and not self._rose(observed):
+            frame = dataclasses.replace(frame, candidate=None, status=ARM_NOT_RAISED)
         candidate, since = _dwell(watch.candidate, watch.since, frame, time)
         self._correcting = dataclasses.replace(watch, candidate=candidate, since=since)
         if not self._dwelt(candidate, since, frame, time):

@@ -1,0 +1,45 @@
+"""Whether an arm has just moved into its pose: a new gesture rises to point, an arm held out to
+receive, or resting on the table, has stayed where it is.
+
+A person who asks again raises the arm from wherever it was (at rest, or held out for the
+object) to point, the wrist travelling a forearm's length or more; an arm held out to receive
+stays still for seconds, its elbow angle flickering across eq. 16's threshold through the
+detector's error (a short person's held-out arm reads 137-156 degrees, a pointing one 165-179).
+"""
+
+from __future__ import annotations
+
+import collections
+
+import numpy as np
+
+from hsr_handover.robot.intent.person_rays import ARMS
+
+
+class WristTrail:
+    """Where each wrist has been over the last `window_s` seconds (m, world; NaN where
+    unseen), and whether one travelled `rise_m` to where it is now in that time."""
+
+    def __init__(self, rise_m: float, window_s: float):
+        self.rise_m, self.window_s = rise_m, window_s
+        self._trail: collections.deque[tuple[float, np.ndarray]] = collections.deque()
+
+    def add(self, time: float, points: np.ndarray, confidence: np.ndarray) -> None:
+        """Record both wrists of the lifted skeleton (18 x 3 points, 18 confidences) at `time`
+        (s), and forget what is older than the window."""
+        wrists = np.array([points[ARMS[arm][2]] for arm in ARMS], dtype=float)
+        unseen = np.array([confidence[ARMS[arm][2]] <= 0 for arm in ARMS])
+        wrists[unseen] = np.nan
+        self._trail.append((time, wrists))
+        while self._trail[0][0] < time - self.window_s:
+            self._trail.popleft()
+
+    def rose(self, arm: str) -> bool:
+        """Whether the `arm`'s wrist ("right" or "left"), where last seen, was at least
+        `rise_m` from there at some moment of the window."""
+        side = list(ARMS).index(arm)
+        seen = [wrists[side] for _, wrists in self._trail if np.isfinite(wrists[side]).all()]
+        if not seen:
+            return False
+        travel = np.linalg.norm(np.array(seen) - seen[-1], axis=1)
+        return bool(travel.max() >= self.rise_m)

@@ -1,0 +1,48 @@
+"""WristTrail: whether an arm has just risen into its pose (layer 1)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from hsr_handover.interface.coco18 import NUM_KEYPOINTS
+from hsr_handover.robot.intent.person_rays import ARMS
+from hsr_handover.robot.intent.wrist_trail import WristTrail
+
+RIGHT_WRIST, LEFT_WRIST = ARMS["right"][2], ARMS["left"][2]
+
+
+def _frame(right, left=(1.0, 0.3, 0.8), seen=(True, True)):
+    points = np.zeros((NUM_KEYPOINTS, 3))
+    points[RIGHT_WRIST], points[LEFT_WRIST] = right, left
+    confidence = np.full(NUM_KEYPOINTS, 0.8)
+    confidence[RIGHT_WRIST], confidence[LEFT_WRIST] = (0.8 if s else 0.0 for s in seen)
+    return points, confidence
+
+
+def test_a_wrist_that_travelled_the_rise_within_the_window_rose():
+    trail = WristTrail(rise_m=0.08, window_s=2.0)
+    for k, x in enumerate(np.linspace(1.4, 1.2, 11)):  # 20 cm in 1 s, toward the table
+        trail.add(0.1 * k, *_frame((x, -0.2, 1.0)))
+    assert trail.rose("right")
+    assert not trail.rose("left")  # still all along
+
+
+def test_the_rise_is_forgotten_once_older_than_the_window():
+    trail = WristTrail(rise_m=0.08, window_s=2.0)
+    trail.add(0.0, *_frame((1.4, -0.2, 1.0)))
+    trail.add(0.5, *_frame((1.2, -0.2, 1.0)))
+    assert trail.rose("right")
+    trail.add(2.4, *_frame((1.21, -0.2, 1.0)))  # held there since 0.5 s
+    trail.add(2.6, *_frame((1.2, -0.2, 1.0)))
+    assert not trail.rose("right")
+
+
+def test_a_wander_below_the_rise_is_not_a_rise_and_unseen_wrists_do_not_count():
+    trail = WristTrail(rise_m=0.08, window_s=2.0)
+    rng = np.random.default_rng(0)
+    for k in range(30):  # a held-out hand, its filtered wrist wandering 5 cm
+        trail.add(0.05 * k, *_frame((1.3, 0.0, 1.0) + rng.uniform(-0.025, 0.025, 3)))
+    assert not trail.rose("right")
+    trail.add(1.6, *_frame((0.0, 0.0, 0.0), seen=(False, True)))  # unseen: not at the origin
+    assert not trail.rose("right")
+    assert not WristTrail(0.08, 2.0).rose("left")  # never seen
