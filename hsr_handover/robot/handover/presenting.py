@@ -75,14 +75,16 @@ class Presenting:
             self._follow(p)
 
     def _follow(self, p: Percepts) -> None:
-        """Re-target state to state (ruckig) to hold the object out at the hand."""
-        aim = self._follower.aim(p)
-        planned = self.planner.follow(p.q, np.zeros_like(p.q), aim, self._fetch.held)
-        self.record.planning_s += planned.plan_seconds
-        if planned.ok:
-            self._motions.play(planned.motions)
-            self.view = self.view.updated(planned.view)
-            self._moving(p.time)
+        """Re-target state to state (ruckig) to hold the object out at the hand, or as near
+        it as the arm reaches (`HandFollower.aims`)."""
+        for aim in self._follower.aims(p):
+            planned = self.planner.follow(p.q, np.zeros_like(p.q), aim, self._fetch.held)
+            self.record.planning_s += planned.plan_seconds
+            if planned.ok:
+                self._motions.play(planned.motions)
+                self.view = self.view.updated(planned.view)
+                self._moving(p.time)
+                return
 
     def _let_go(self, p: Percepts) -> None:
         self._gripper = min(self._params.open, p.opening + self._params.let_go)

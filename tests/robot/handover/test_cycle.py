@@ -22,6 +22,7 @@ from hsr_handover.robot.planning.plan import Motion, Plan
 PARAMS = CycleParams()
 TICK = 0.1
 OBJECT = np.array([0.8, 0.0, 0.76])
+PALM = np.array([1.2, 0.2, 0.95])  # where the object is held out
 WEIGHT = 8.0  # N of hand and object on the wrist's sensor
 
 
@@ -49,6 +50,7 @@ class Planner:
     grasp_ok: bool = True
     grasp_failures: int = 0  # grasps that find no way before one does
     back_off_ok: bool = True
+    follow_reach: float = np.inf  # m from where the object is held out that a follow reaches
     asked: list = dataclasses.field(default_factory=list)
 
     def grasp(self, label, q):
@@ -67,6 +69,8 @@ class Planner:
 
     def follow(self, q, v, hand, held):
         self.asked.append(("follow", tuple(hand)))
+        if np.linalg.norm(hand - PALM) > self.follow_reach:
+            return _planned(ok=False, reason="no IK solution", seconds=0.05)
         return _planned(
             ok=True, reason="ok", motions=(("follow", Line(q, q + 0.5, 0.5)),), seconds=0.01
         )
@@ -100,7 +104,7 @@ class World:
         self.time, self.q = 0.0, np.zeros(3)
         self.opening, self.target, self.seen = 0.1, None, OBJECT.copy()
         self.hand = None
-        self.palm = np.array([1.2, 0.2, 0.95])
+        self.palm = PALM.copy()
         self.person, self.pull = np.array([1.7, 0.2, 1.2]), 0.0
         self.face = None
         self.correction = None
@@ -126,18 +130,18 @@ class World:
         return self.machine.record
 
 
-def _closed_on(opening: float) -> World:
+def _closed_on(opening: float, planner: Planner | None = None) -> World:
     """A world whose robot recognised the request and closed its gripper to `opening`."""
-    world = World()
+    world = World(planner)
     world.target = "yellow"
     world.until(Phase.GRASP)
     world.opening = opening
     return world
 
 
-def _presenting() -> World:
+def _presenting(planner: Planner | None = None) -> World:
     """A world whose robot holds the object out, lifted and carried."""
-    world = _closed_on(0.06)
+    world = _closed_on(0.06, planner)
     world.until(Phase.LIFT)
     world.seen = OBJECT + [0, 0, 0.08]  # it rises with the hand
     world.until(Phase.PRESENT)
@@ -425,6 +429,18 @@ def test_a_hand_held_out_elsewhere_is_followed():
     # The object is brought in front of the fingers, not into the wrist.
     np.testing.assert_allclose(goal, world.hand - [0.0, PARAMS.offer, 0.0])
     assert world.machine.command(world.time + 0.25)[0] is not None
+
+
+def test_a_hand_the_arm_cannot_reach_gets_the_object_brought_part_way():
+    """Held out where the arm cannot bring the object, the hand has it brought as near as the
+    arm reaches: any way nearer the hand is nearer the person's reach."""
+    world = _presenting(Planner(follow_reach=0.2))
+    world.hand = world.palm + [0.0, 0.5, 0.0]
+    world.tick()
+    follows = [goal for name, goal in world.planner.asked if name == "follow"]
+    assert len(follows) == 2  # at the hand, then half way there, which the arm reaches
+    np.testing.assert_allclose(follows[1], world.palm + [0.0, 0.15, 0.0])
+    assert world.machine.command(world.time + 0.25)[0] is not None  # on its way
 
 
 def test_a_hand_held_out_short_of_the_object_and_waiting_gets_the_object_brought_to_it():

@@ -9,7 +9,7 @@ import pytest
 
 from hsr_handover.robot.handover.cycle_params import CycleParams
 from hsr_handover.robot.handover.cycle_types import Percepts
-from hsr_handover.robot.handover.hand_follower import FollowStep, HandFollower
+from hsr_handover.robot.handover.hand_follower import PART_WAY, FollowStep, HandFollower
 
 PALM = np.array([1.0, 0.0, 1.0])  # where the object is held out
 AWAY = np.array([1.0, 0.0, 0.0])  # from the palm toward the person
@@ -42,8 +42,12 @@ def test_the_object_is_aimed_20_cm_in_front_of_the_hand():
     """In front of the fingers, for the person to close them on: the wrist is inside the
     hand."""
     hand = PALM + [0.3, 0.4, 0.0]  # 50 cm off
-    aim = HandFollower(CycleParams()).aim(_percepts(0.0, hand))
+    aim, *part_way = HandFollower(CycleParams()).aims(_percepts(0.0, hand))
     np.testing.assert_allclose(aim, hand + 0.2 * (PALM - hand) / 0.5)
+    # Where the arm cannot reach it: part way there from the palm, the nearer later.
+    shares = [np.linalg.norm(point - PALM) / np.linalg.norm(aim - PALM) for point in part_way]
+    np.testing.assert_allclose(shares, PART_WAY)
+    assert all(np.linalg.norm(np.cross(point - PALM, aim - PALM)) < 1e-12 for point in part_way)
 
 
 def test_a_hand_still_32_cm_off_gets_the_object_brought_after_3_s():
@@ -76,7 +80,7 @@ def test_a_hand_followed_is_followed_again_after_a_second_not_sooner():
     """A hand out of reach fails each try: it is tried once a second."""
     follower = HandFollower(CycleParams())
     hand = PALM + 0.6 * AWAY
-    follower.aim(_percepts(0.0, hand))
+    follower.aims(_percepts(0.0, hand))
     assert _steps(follower, [hand], start=0.5) == [FollowStep.STAY]
     assert _steps(follower, [hand], start=1.5) == [FollowStep.FOLLOW]
 
@@ -87,7 +91,7 @@ def test_a_followed_hand_that_comes_4_cm_for_the_object_stops_the_arm(came: floa
     reaches for it where it was, and following on would bring the fingers into it."""
     follower = HandFollower(CycleParams())
     hand = PALM + 0.6 * AWAY
-    follower.aim(_percepts(0.0, hand))
+    follower.aims(_percepts(0.0, hand))
     step = follower.step(_percepts(TICK, hand - came * AWAY), following=True)
     assert (step is FollowStep.STOP) is stops
 
@@ -95,6 +99,6 @@ def test_a_followed_hand_that_comes_4_cm_for_the_object_stops_the_arm(came: floa
 def test_a_hand_that_comes_while_the_arm_stands_still_stops_nothing():
     follower = HandFollower(CycleParams())
     hand = PALM + 0.6 * AWAY
-    follower.aim(_percepts(0.0, hand))
+    follower.aims(_percepts(0.0, hand))
     step = follower.step(_percepts(TICK, hand - 0.1 * AWAY), following=False)
     assert step is not FollowStep.STOP
