@@ -20,10 +20,12 @@ from hsr_handover.scenario import ActionConfig, Scenario
 from hsr_handover.world.person.body import BodyDimensions, side_sign
 from hsr_handover.world.station import person_pose
 
-TIME_LIMIT_S = 45.0
+TIME_LIMIT_S = 60.0
 """s from the pointing's onset for the whole cycle: recognise, fetch, present, wait up to the
-robot's 12 s for a hand and retreat. A handover not done by then has timed out (HandoverSim's
-limit is 13 s, from a hand already held out with the object in reach of a fixed arm)."""
+robot's 12 s for a hand and retreat (about 35 s at most), and room for the one correction the
+robot heeds: put the wrong object back and fetch the other, 20-25 s more. A handover not done
+by then has timed out (HandoverSim's limit is 13 s, from a hand already held out with the
+object in reach of a fixed arm)."""
 HOLD_OUT = np.array([0.40, 0.0, -0.18])
 """Where a person holds out the receiving hand, from that shoulder (m, person frame: forward,
 left, up): the forearm out over the table's edge, the palm below the shoulder."""
