@@ -7,6 +7,8 @@ beside the hand if the forearm leaves no room in front of it, is the planner's
 
 from __future__ import annotations
 
+import collections
+import dataclasses
 import enum
 import math
 
@@ -22,6 +24,13 @@ out 8 mm past a seated person's reach, at the edge of what both reach, stayed th
 while every try at the hand itself found no inverse kinematics)."""
 
 
+HAND_READINGS = 3
+"""Decisions whose receiving-wrist readings the hand is taken as the median of: the detector
+swaps the arms for a few frames, and a wrist read 40 cm off, on the hand at rest, for one
+decision had the robot stop a follow it had just begun (the hand seemed to come for the
+object). A hand that does come is seen a decision later."""
+
+
 class FollowStep(enum.Enum):
     """What to do about the person's hand at one decision."""
 
@@ -33,18 +42,20 @@ class FollowStep(enum.Enum):
 class HandFollower:
     """Decides when to bring the object to the person's hand, and where to aim it.
 
-    Its memory: where the hand came to rest and since when, when it last set off toward the
-    hand and where the hand was then."""
+    Its memory: the hand's last readings, where it came to rest and since when, when it last
+    set off toward the hand and where the hand was then."""
 
     def __init__(self, params: CycleParams):
         self._params = params
         self._hand_rest: tuple[np.ndarray, float] | None = None  # (where, since when)
         self._followed_at = -math.inf  # when it last tried to follow the hand
         self._followed_hand: np.ndarray | None = None  # where the hand was, as it was followed
+        self._readings: collections.deque = collections.deque(maxlen=HAND_READINGS)
 
     def step(self, p: Percepts, following: bool) -> FollowStep:
         """This decision's step, with the hand and the palm seen in `p` (neither None);
         `following`: whether the arm is now on its way to the hand."""
+        p = self._read(p)
         self._note_rest(p)
         if self._coming(p, following):
             return FollowStep.STOP
@@ -59,10 +70,19 @@ class HandFollower:
         """Where to hold the object out (m, world), in order: `offer` in front of the hand
         toward the palm, then PART_WAY there from the palm. Noted as a try to follow the hand,
         as it is now."""
+        p = self._read(p)
         self._followed_at, self._followed_hand = p.time, p.hand
         toward = (p.palm - p.hand) / float(np.linalg.norm(p.hand - p.palm))
         aim = p.hand + self._params.offer * toward
         return [aim] + [p.palm + share * (aim - p.palm) for share in PART_WAY]
+
+    def _read(self, p: Percepts) -> Percepts:
+        """`p` with the hand the median of the last HAND_READINGS decisions' readings (this
+        one's taken once)."""
+        if not self._readings or self._readings[-1][0] != p.time:
+            self._readings.append((p.time, p.hand))
+        hand = np.median([reading for _, reading in self._readings], axis=0)
+        return dataclasses.replace(p, hand=hand)
 
     def _note_rest(self, p: Percepts) -> None:
         """Where the hand has rested, and since when: a hand first seen on its way out rests

@@ -53,11 +53,13 @@ class RaySmoother:
     window's older and newer halves over the time between them (averaging first, so that the
     keypoints' jitter does not read as motion). A pointing ray's history restarts when the arm
     changes, or when it stops pointing for longer than `gap` seconds (until then, the window's
-    rays stand for it). A frame without a face adds nothing to the face's history but is given
-    the window's face: the face seen in the last `window` seconds, never a guess (OpenPose drops
-    a face point in about a quarter of frames; without a face seen in the window, there is no
-    face). The face whose pitch is checked is the median over `pitch_window` seconds, from the
-    same history."""
+    rays stand for it, whichever other arm reads straight meanwhile: a pointing arm read bent
+    for a frame lets a resting arm read straight that frame point instead, and restarting on
+    it, and back, threw the gesture's hold away). A frame without a face adds nothing to the
+    face's history but is given the window's face: the face seen in the last `window` seconds,
+    never a guess (OpenPose drops a face point in about a quarter of frames; without a face
+    seen in the window, there is no face). The face whose pitch is checked is the median over
+    `pitch_window` seconds, from the same history."""
 
     MIN_FRAMES = 4  # for a turning rate: two frames in each half
 
@@ -67,6 +69,7 @@ class RaySmoother:
         self._pointing: list[tuple[float, Ray]] = []
         self._face: list[tuple[float, Ray]] = []  # over the longer of the two face windows
         self._arm: str | None = None
+        self._bridging = False  # the last frame was in its arm's gap
 
     def __deepcopy__(self, memo: dict) -> RaySmoother:
         """Rays are never changed once made: a copy has its own histories, sharing the rays
@@ -76,9 +79,14 @@ class RaySmoother:
         return clone
 
     def smooth(self, time: float, observation: Observation) -> Observation:
+        in_gap = bool(self._pointing) and time - self._pointing[-1][0] <= self.gap + 1e-9
+        if observation.arm != self._arm and self._bridging and in_gap:
+            observation = dataclasses.replace(observation, arm=None, pointing=None)
+        self._bridging = False
         if observation.pointing is None and self._pointing:
-            if time - self._pointing[-1][0] <= self.gap + 1e-9:  # a gesture in a gap goes on
+            if in_gap:  # a gesture in a gap goes on
                 observation = dataclasses.replace(observation, arm=self._arm)
+                self._bridging = True
             else:
                 self._pointing = []
         elif observation.arm != self._arm:

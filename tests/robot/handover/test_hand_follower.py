@@ -102,3 +102,19 @@ def test_a_hand_that_comes_while_the_arm_stands_still_stops_nothing():
     follower.aims(_percepts(0.0, hand))
     step = follower.step(_percepts(TICK, hand - 0.1 * AWAY), following=False)
     assert step is not FollowStep.STOP
+
+
+def test_a_wrist_read_40_cm_off_for_one_decision_does_not_stop_a_follow():
+    """The detector swaps the arms for a frame: the reading jumps to the other hand, nearer the
+    object. The hand is the median of three decisions' readings: one such reading is not a
+    hand that comes; two are."""
+    follower = HandFollower(CycleParams())
+    hand = PALM + 0.6 * AWAY
+    other_hand = PALM + 0.2 * AWAY + [0.0, 0.3, 0.0]
+    assert _steps(follower, [hand, hand]) == [FollowStep.FOLLOW] * 2
+    follower.aims(_percepts(TICK, hand))
+    swapped = follower.step(_percepts(2 * TICK, other_hand), following=True)
+    assert swapped is not FollowStep.STOP
+    aim, *_ = follower.aims(_percepts(2 * TICK, other_hand))
+    np.testing.assert_allclose(aim, hand - 0.2 * AWAY)  # the aim too is the hand's
+    assert follower.step(_percepts(3 * TICK, other_hand), following=True) is FollowStep.STOP

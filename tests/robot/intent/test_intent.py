@@ -489,6 +489,24 @@ def test_an_arm_lowered_for_longer_than_the_gap_ends_its_gesture():
     np.testing.assert_allclose(after.pointing.direction, [0, 1, 0])  # a new gesture
 
 
+def test_another_arm_read_straight_in_the_pointing_arms_gap_does_not_end_its_gesture():
+    """The pointing arm reads bent for a frame and the resting arm straight the next: the
+    gesture goes on, its hold kept; the other arm points once the gap has passed."""
+    smoother = RaySmoother(1.0, gap=0.2)
+    ray, other = Ray.through([0, 0, 0], [1, 0, 0]), Ray.through([0, 0, 0], [0, 1, 0])
+    for time in np.arange(0.0, 0.5, 0.1):
+        smoother.smooth(time, Observation("right", 170.0, ray))
+    smoother.smooth(0.5, Observation())  # bent for a frame
+    resting = smoother.smooth(0.6, Observation("left", 160.0, other))
+    assert resting.arm == "right" and resting.sweep_deg_s == pytest.approx(0.0)
+    back = smoother.smooth(0.7, Observation("right", 170.0, ray))
+    assert back.arm == "right" and back.sweep_deg_s == pytest.approx(0.0)
+    np.testing.assert_allclose(back.pointing.direction, [1, 0, 0])
+    # Straight while the right arm also points: the arm nearer an object points, anew.
+    switched = smoother.smooth(0.8, Observation("left", 160.0, other))
+    np.testing.assert_allclose(switched.pointing.direction, [0, 1, 0])
+
+
 def test_the_face_is_the_median_of_its_window_so_one_wild_frame_does_not_turn_it():
     """One frame's eq. 17 normal can read tens of degrees off (a jittered eye pixel whose depth
     window slips off the eye): the window's face keeps the others' heading and elevation,
