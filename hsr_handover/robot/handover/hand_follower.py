@@ -19,9 +19,12 @@ from hsr_handover.robot.handover.cycle_types import Percepts
 
 PART_WAY = (0.5, 0.25)
 """Shares of the way from the palm to the aim in front of the hand, tried in turn where the arm
-cannot reach the aim itself: any way nearer the hand is nearer the person's reach (a box held
-out 8 mm past a seated person's reach, at the edge of what both reach, stayed there for 12 s
-while every try at the hand itself found no inverse kinematics)."""
+cannot reach the aim itself, for a hand that has waited near the object: the person judges it
+out of reach, and any way nearer the hand is nearer their reach (a box held out 8 mm past a
+seated person's reach stayed there for 12 s while every try at the hand itself found no
+inverse kinematics). Not for a hand held out farther than `follow_beyond`: the person may yet
+reach for the object where it is, and one who did as it set off part way, the robot's arm
+hiding the hand, met it with the forearm."""
 
 
 HAND_READINGS = 3
@@ -51,6 +54,7 @@ class HandFollower:
         self._followed_at = -math.inf  # when it last tried to follow the hand
         self._followed_hand: np.ndarray | None = None  # where the hand was, as it was followed
         self._readings: collections.deque = collections.deque(maxlen=HAND_READINGS)
+        self._far = True  # whether the hand was held out beyond `follow_beyond` when last read
 
     def step(self, p: Percepts, following: bool) -> FollowStep:
         """This decision's step, with the hand and the palm seen in `p` (neither None);
@@ -60,7 +64,8 @@ class HandFollower:
         if self._coming(p, following):
             return FollowStep.STOP
         distance = float(np.linalg.norm(p.hand - p.palm))
-        if not (distance > self._params.follow_beyond or self._waiting_short(p)):
+        self._far = distance > self._params.follow_beyond
+        if not (self._far or self._waiting_short(p)):
             return FollowStep.STAY
         if p.time - self._followed_at > self._params.follow_every_s:
             return FollowStep.FOLLOW
@@ -68,13 +73,14 @@ class HandFollower:
 
     def aims(self, p: Percepts) -> list[np.ndarray]:
         """Where to hold the object out (m, world), in order: `offer` in front of the hand
-        toward the palm, then PART_WAY there from the palm. Noted as a try to follow the hand,
-        as it is now."""
+        toward the palm, then, for a hand that waited near the object, PART_WAY there from the
+        palm. Noted as a try to follow the hand, as it is now."""
         p = self._read(p)
         self._followed_at, self._followed_hand = p.time, p.hand
         toward = (p.palm - p.hand) / float(np.linalg.norm(p.hand - p.palm))
         aim = p.hand + self._params.offer * toward
-        return [aim] + [p.palm + share * (aim - p.palm) for share in PART_WAY]
+        shares = () if self._far else PART_WAY
+        return [aim] + [p.palm + share * (aim - p.palm) for share in shares]
 
     def _read(self, p: Percepts) -> Percepts:
         """`p` with the hand the median of the last HAND_READINGS decisions' readings (this

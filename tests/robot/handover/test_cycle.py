@@ -431,15 +431,16 @@ def test_a_hand_held_out_elsewhere_is_followed():
     assert world.machine.command(world.time + 0.25)[0] is not None
 
 
-def test_a_hand_the_arm_cannot_reach_gets_the_object_brought_part_way():
-    """Held out where the arm cannot bring the object, the hand has it brought as near as the
-    arm reaches: any way nearer the hand is nearer the person's reach."""
-    world = _presenting(Planner(follow_reach=0.2))
-    world.hand = world.palm + [0.0, 0.5, 0.0]
-    world.tick()
+def test_a_waiting_hand_the_arm_cannot_reach_gets_the_object_brought_part_way():
+    """A hand that waited near the object, where the arm cannot bring it, has it brought as
+    near as the arm reaches: any way nearer the hand is nearer the person's reach."""
+    world = _presenting(Planner(follow_reach=0.06))
+    world.hand = world.palm + [0.3, 0.0, 0.1]  # held out 32 cm off, waiting
+    world.tick(PARAMS.nudge_s + 3 * TICK)
     follows = [goal for name, goal in world.planner.asked if name == "follow"]
     assert len(follows) == 2  # at the hand, then half way there, which the arm reaches
-    np.testing.assert_allclose(follows[1], world.palm + [0.0, 0.15, 0.0])
+    offer = world.hand + PARAMS.offer * (world.palm - world.hand) / np.linalg.norm([0.3, 0.1])
+    np.testing.assert_allclose(follows[1], world.palm + 0.5 * (offer - world.palm))
     assert world.machine.command(world.time + 0.25)[0] is not None  # on its way
 
 

@@ -42,9 +42,20 @@ def test_the_object_is_aimed_20_cm_in_front_of_the_hand():
     """In front of the fingers, for the person to close them on: the wrist is inside the
     hand."""
     hand = PALM + [0.3, 0.4, 0.0]  # 50 cm off
-    aim, *part_way = HandFollower(CycleParams()).aims(_percepts(0.0, hand))
-    np.testing.assert_allclose(aim, hand + 0.2 * (PALM - hand) / 0.5)
-    # Where the arm cannot reach it: part way there from the palm, the nearer later.
+    follower = HandFollower(CycleParams())
+    assert _steps(follower, [hand]) == [FollowStep.FOLLOW]
+    aims = follower.aims(_percepts(0.0, hand))
+    np.testing.assert_allclose(aims, [hand + 0.2 * (PALM - hand) / 0.5])  # the aim alone:
+    # held out this far, the person may yet reach for the object where it is.
+
+
+def test_a_hand_that_waited_near_gets_the_object_part_way_where_the_arm_cannot_reach_it():
+    """The person judged the object out of reach: where the arm cannot bring it in front of
+    the hand, part way there from the palm, the nearer later, is nearer their reach."""
+    hand = PALM + [0.3, 0.0, -0.1]
+    follower = HandFollower(CycleParams())
+    assert _steps(follower, _still(hand, 4.0))[-1] is FollowStep.FOLLOW
+    aim, *part_way = follower.aims(_percepts(4.0, hand))
     shares = [np.linalg.norm(point - PALM) / np.linalg.norm(aim - PALM) for point in part_way]
     np.testing.assert_allclose(shares, PART_WAY)
     assert all(np.linalg.norm(np.cross(point - PALM, aim - PALM)) < 1e-12 for point in part_way)
