@@ -78,7 +78,7 @@ class IntentParams:
     the table, reads straight now and then but has not moved. The arm rises from rest or from
     holding out, 10-30 cm; the held-out arm's filtered wrist wanders 5 cm. The window is
     shorter than the time from the person holding a hand out (at most 6 s after the pointing's
-    onset) to the watch waking (once the robot lifts, 9 s or more after it).
+    onset) to the watch waking (once the robot lifts, about 8 s or more after it).
     track_keypoints: follow each keypoint over time before reading the rays
     (`robot.perception.keypoint_filter`: smoothed, outliers and swapped arms rejected, short
     misses bridged).
