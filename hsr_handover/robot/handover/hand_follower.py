@@ -54,7 +54,6 @@ class HandFollower:
         self._followed_at = -math.inf  # when it last tried to follow the hand
         self._followed_hand: np.ndarray | None = None  # where the hand was, as it was followed
         self._readings: collections.deque = collections.deque(maxlen=HAND_READINGS)
-        self._far = True  # whether the hand was held out beyond `follow_beyond` when last read
 
     def step(self, p: Percepts, following: bool) -> FollowStep:
         """This decision's step, with the hand and the palm seen in `p` (neither None);
@@ -64,8 +63,7 @@ class HandFollower:
         if self._coming(p, following):
             return FollowStep.STOP
         distance = float(np.linalg.norm(p.hand - p.palm))
-        self._far = distance > self._params.follow_beyond
-        if not (self._far or self._waiting_short(p)):
+        if not (distance > self._params.follow_beyond or self._waiting_short(p)):
             return FollowStep.STAY
         if p.time - self._followed_at > self._params.follow_every_s:
             return FollowStep.FOLLOW
@@ -79,7 +77,8 @@ class HandFollower:
         self._followed_at, self._followed_hand = p.time, p.hand
         toward = (p.palm - p.hand) / float(np.linalg.norm(p.hand - p.palm))
         aim = p.hand + self._params.offer * toward
-        shares = () if self._far else PART_WAY
+        far = float(np.linalg.norm(p.hand - p.palm)) > self._params.follow_beyond
+        shares = () if far else PART_WAY
         return [aim] + [p.palm + share * (aim - p.palm) for share in shares]
 
     def _read(self, p: Percepts) -> Percepts:
