@@ -2,18 +2,20 @@
 lift) of the table's objects; from the first grasps, the carry to the handover point holding the
 object, and from each carry the follow (ruckig, to a hand moved from the handover point), the
 put back (from part way along the carry, the way it came), the retreat (after a handover, and
-holding the object nobody took) and the back off (from the object put back); and from each
-start the posture (the watching raise). In the bundled scenes, in copies with the table, its
-objects and the person moved, and (`--layouts generated` or `both`) in layouts drawn by the
-experiments' generator. The kinds the arm's effectivity map seeds (grasp, carry) are planned
-twice in the same run: seeded (base placement and IK seeds, eq. 11) and unseeded (the base at a
-fixed reach, IK from the arm as it is), the baseline. Per plan: success, the wall time of each
-stage (IK, trajectory optimisation, toppra timing, retries), the least clearance along the timed
-trajectory checked every 10 ms against the simulation's true geometry (with the object held the
-true object rides in the hand as the grasp would hold it, and its distances count), and the
-duration. Each failure is judged by a slower exhaustive search (`exhaustive`: more IK seeds and
-base placements, random via points, 1000 SNOPT iterations): "missed" when it finds a plan,
-"unreachable" when it does not; the success rate over reachable targets counts only the missed.
+holding the object nobody took) and the back off (from the object put back); and from each start
+the posture (the watching raise). In the bundled scenes, in copies with the table, its objects
+and the person moved, and (`--layouts generated` or `both`) in layouts drawn by the experiments'
+generator. The kinds the arm's effectivity map seeds (grasp, carry) are planned twice in the
+same run: seeded (base placement and IK seeds, eq. 11) and unseeded (the base at a fixed reach,
+IK from the arm as it is), the baseline. Per plan: success, the wall time of each stage (IK,
+trajectory optimisation, toppra timing, retries), the least clearance along the timed trajectory
+checked every 10 ms against the simulation's true geometry (with the object held the true object
+rides in the hand as the grasp would hold it, and its distances count), the most the object held
+tilts from upright ("tilt cup/box": a cup keeps within 20 degrees, a box may lie on its side),
+and the duration. Each failure is judged by a slower exhaustive search (`exhaustive`: more IK
+seeds and base placements, random via points, 1000 SNOPT iterations): "missed" when it finds a
+plan, "unreachable" when it does not; the success rate over reachable targets counts only the
+missed.
 
 Each scene is perceived by the robot (a short simulation in which it looks round the table,
 pans its head left and right, then back: the table fitted to the point clouds, the objects
@@ -48,6 +50,7 @@ from hsr_handover.robot.effectivity.arm_map import load_or_build
 from hsr_handover.robot.effectivity.person_map import PersonEffectivity
 from hsr_handover.robot.handover.perceived_planner import pads_centre
 from hsr_handover.robot.handover.watch_view import FLEX, LIFT
+from hsr_handover.robot.perception.object_shapes import BOX, CYLINDER
 from hsr_handover.robot.planning import (
     follow,
     grasp_configurations,
@@ -178,6 +181,10 @@ class Bench:
                           _true_clearance(carried, self.truth, self.by_color)]  # fmt: skip
             scored = [score for score in scores if score[0] is not None]
             record["min_clearance_m"], record["nearest"] = min(scored, default=(None, ""))
+        if plan.ok and holding is not None:
+            shape = self.planning.scene.object_named(holding[0])
+            record["held"] = "" if shape is None else shape.kind
+            record["held_tilt_deg"] = _held_tilt(self.planning, plan, holding[1])
         if not plan.ok:  # its own draws: a failure leaves the later targets as they were
             with exhaustive(np.random.default_rng(len(self.records))):
                 record["judged"] = "missed" if planning().ok else "unreachable"
@@ -413,6 +420,20 @@ def _record(spec: SceneSpec, kind: str, variant: str, plan: Plan | None, truth, 
             "nearest": nearest}  # fmt: skip
 
 
+def _held_tilt(planning: PlanningScene, plan: Plan, q_grasp: np.ndarray) -> float:
+    """The most (deg) the object held, upright where the hand closed on it at `q_grasp`,
+    tilts along the plan's motions checked every CHECK_STEP s (the last leg of a put back
+    included: it stands again at its end)."""
+    R_grasp = planning.hand_pose(q_grasp).rotation().matrix()
+    up_in_hand = R_grasp.T @ np.array([0.0, 0.0, 1.0])
+    most = 0.0
+    for motion in plan.motions:
+        for q in motion.sample(CHECK_STEP)[1]:
+            up = planning.hand_pose(q).rotation().matrix() @ up_in_hand
+            most = max(most, math.degrees(math.acos(float(np.clip(up[2], -1.0, 1.0)))))
+    return most
+
+
 def _true_clearance(plan: Plan, truth: TrueClearance, by_color: dict) -> tuple:
     if not plan.ok or not plan.motions:
         return None, ""
@@ -442,6 +463,8 @@ def _figures(records: list[dict]) -> dict:
     done = [r for r in mine if r["ok"]]
     plan_s = [r["plan_s"] for r in done]
     clearances = [r["min_clearance_m"] for r in done if r["min_clearance_m"] is not None]
+    tilts = {kind: [r["held_tilt_deg"] for r in done if r.get("held") == kind]
+             for kind in (CYLINDER, BOX)}  # fmt: skip
     failures = collections.Counter(r["reason"].split(":")[0] for r in mine if not r["ok"])
     judged = collections.Counter(r.get("judged", "") for r in mine if not r["ok"])
     reachable = len(mine) - judged["unreachable"]
@@ -467,6 +490,8 @@ def _figures(records: list[dict]) -> dict:
         "collisions": sum(c < COLLISION for c in clearances),
         "below_1cm": sum(c < 0.01 for c in clearances),
         "median_duration_s": statistics.median(r["duration_s"] for r in done) if done else None,
+        "max_cup_tilt_deg": max(tilts[CYLINDER], default=None),
+        "max_box_tilt_deg": max(tilts[BOX], default=None),
         "failures": dict(failures),
     }
 
@@ -527,7 +552,8 @@ def _print(summary: dict) -> None:
           f"wall {summary['wall_s']:.0f} s")  # fmt: skip
     baseline = summary["unseeded"]["by_kind"]
     print(f"{'kind':9s} {'plans':>5s} {'success':>8s} {'of reachable':>12s} {'missed':>6s} "
-          f"{'unreach':>7s} {'retried':>7s} {'median':>8s} {'p95':>8s} {'least clear':>11s}   "
+          f"{'unreach':>7s} {'retried':>7s} {'median':>8s} {'p95':>8s} {'least clear':>11s} "
+          f"{'tilt cup/box':>9s}   "
           "baseline (unseeded): success median p95")  # fmt: skip
     for kind, part in (*summary["by_kind"].items(), ("all", summary)):
         base = baseline.get(kind, summary["unseeded"] if kind == "all" else None)
@@ -548,12 +574,15 @@ def _line(figures: dict) -> str:
     if not figures["plans"]:
         return f"{0:5d} {'no plans':>8s}"
     clearance = figures["min_clearance_m"]
+    tilts = "/".join("-" if figures[key] is None else f"{figures[key]:.0f}°"
+                     for key in ("max_cup_tilt_deg", "max_box_tilt_deg"))  # fmt: skip
     reachable = figures["reachable_success_rate"]
     return (f"{figures['plans']:5d} {figures['success_rate']:8.1%} "
             f"{'n/a' if reachable is None else f'{reachable:.1%}':>12s} {figures['missed']:6d} "
             f"{figures['unreachable']:7d} {figures['retried']:7d} "
             f"{_ms(figures['median_plan_s']):>8s} {_ms(figures['p95_plan_s']):>8s} "
-            f"{'n/a' if clearance is None else f'{clearance * 100:.1f} cm':>11s}")  # fmt: skip
+            f"{'n/a' if clearance is None else f'{clearance * 100:.1f} cm':>11s} "
+            f"{tilts:>9s}")  # fmt: skip
 
 
 def _baseline(figures: dict | None) -> str:

@@ -3,7 +3,8 @@ receiver's hand): a state-to-state move (ruckig) from wherever the arm is, to ho
 out at an aim in front of the hand, or at the nearest point round it where the object fits
 beside the perceived hand (`offer.offer_points`); where IK from the arm as it is fails, it
 starts again from the arm's effectivity map's nodes round the point, and the base steps when
-the arm alone cannot reach. The move is checked for clearance like any timed path."""
+the arm alone cannot reach. The move is checked for clearance like any timed path, and for the
+object held kept up (`upright`)."""
 
 from __future__ import annotations
 
@@ -22,6 +23,7 @@ from hsr_handover.robot.planning.retarget import retarget
 from hsr_handover.robot.planning.stopwatch import Stopwatch
 from hsr_handover.robot.planning.timing import JointLimits
 from hsr_handover.robot.planning.trajectory import COLLISION_BOUND
+from hsr_handover.robot.planning.upright import SLACK, keeps_upright
 from hsr_handover.robot.planning.verification import DIP_ALLOWANCE, timed_clearance
 
 FOLLOW = "follow"  # a follow plan's target and motion
@@ -81,6 +83,8 @@ def _move(
         clearance = timed_clearance(scene, motion, FOLLOW_CHECK_S)
     if clearance < COLLISION_BOUND - DIP_ALLOWANCE:
         return None, f"the way to the hand comes {clearance:.3f} m near"
+    if not keeps_upright(scene, motion.sample(FOLLOW_CHECK_S)[1], SLACK):
+        return None, "the way to the hand tilts the object held"
     return motion, "ok"
 
 

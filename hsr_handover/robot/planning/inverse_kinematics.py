@@ -2,7 +2,7 @@
 solved by SNOPT): the finger pads at a point, the hand along an approach, the fingers across a
 closing axis, at least `min_distance` from every obstacle that is not ignored, the torso and
 the right finger coupled by linear constraints, the head and the fingers held where they are,
-the base free within a box around its seed.
+the base free within a box around its seed, and an object held kept up (`upright`).
 """
 
 from __future__ import annotations
@@ -18,6 +18,7 @@ from hsr_handover.robot.planning.grasps import PAD_OFFSET
 from hsr_handover.robot.planning.outcome import Outcome
 from hsr_handover.robot.planning.planning_scene import PlanningScene
 from hsr_handover.robot.planning.solving import solve, solved, verdict
+from hsr_handover.robot.planning.upright import turned_up
 
 MIN_DISTANCE = 0.02  # m from every obstacle at an IK solution
 POINT_TOLERANCE = 0.005  # m, each axis, the pads' centre from its target
@@ -44,6 +45,17 @@ class IkResult(Outcome):
     q: np.ndarray
 
 
+def palm_goal(scene: PlanningScene, q: np.ndarray) -> PalmGoal:
+    """The hand as it is at `q` (plant positions), as a goal: its pads' centre, its axes and
+    its opening."""
+    plant, context = scene.plant, scene.plant_context
+    plant.SetPositions(context, q)
+    palm = plant.GetFrameByName(PALM_FRAME, scene.robot).CalcPoseInWorld(context)
+    axes = palm.rotation().matrix()
+    point = palm.translation() + PAD_OFFSET * axes[:, 2]
+    return PalmGoal(point, axes[:, 2], axes[:, 1], 2 * q[scene.index(GRIPPER_JOINT)])
+
+
 def solve_palm_ik(
     scene: PlanningScene,
     goal: PalmGoal,
@@ -59,7 +71,8 @@ def solve_palm_ik(
     if not (np.all(np.isfinite(seed)) and np.all(np.isfinite(goal.point))):
         return IkResult(ok=False, q=seed, reason="non-finite seed or goal")
     plant = scene.plant
-    seed = np.clip(seed, plant.GetPositionLowerLimits(), plant.GetPositionUpperLimits())
+    seed = turned_up(scene, np.clip(seed, plant.GetPositionLowerLimits(),
+                                    plant.GetPositionUpperLimits()))  # fmt: skip
     with scene.ignoring(ignore):
         ik = _build(scene, goal, seed, base_fixed, min_distance)
         result = solve(ik.prog(), seed)
@@ -88,6 +101,11 @@ def _build(scene, goal: PalmGoal, seed, base_fixed: bool, min_distance: float):
                                         math.pi / 2 + ANGLE_TOLERANCE)  # fmt: skip
     if min_distance > -1:
         ik.AddMinimumDistanceLowerBoundConstraint(min_distance)
+    if scene.upright is not None:  # an object held keeps its top up (`upright`)
+        hand = plant.GetFrameByName(PALM_FRAME, scene.robot).body().body_frame()
+        ik.AddAngleBetweenVectorsConstraint(world, [0.0, 0.0, 1.0], hand,
+                                            scene.upright.up_in_hand, 0.0,
+                                            scene.upright.most)  # fmt: skip
     prog, q = ik.prog(), ik.q()
     A, b = scene.couplings()
     prog.AddLinearEqualityConstraint(A, b, q)

@@ -30,6 +30,7 @@ from hsr_handover.robot.planning.trajectory import (
     start_contact,
     straight_guess,
 )
+from hsr_handover.robot.planning.upright import SLACK, keeps_upright, spline_positions
 from hsr_handover.robot.planning.verification import (
     DIP_ALLOWANCE,
     VERIFY_PER_SAMPLE,
@@ -106,7 +107,8 @@ def _first_tries(scene, q_from, q_to, ignore, straight, target, first=()):
     first solve that stopped short of a verdict or None)."""
     line = BsplineTrajectory(BsplineBasis(4, CONTROL_POINTS), straight_guess(q_from, q_to))
     if straight:
-        if path_dips(scene, line, ignore, StartContact(), COLLISION_SAMPLES, target).max() <= 0:
+        dips = path_dips(scene, line, ignore, StartContact(), COLLISION_SAMPLES, target)
+        if dips.max() <= 0 and keeps_upright(scene, spline_positions(line, COLLISION_SAMPLES)):
             return line, "ok", "line", None
     elif _line_clear(scene, line, q_from, q_to, ignore, target):
         return line, "ok", "line", None
@@ -129,7 +131,9 @@ def _line_clear(scene, line, q_from, q_to, ignore, target) -> bool:
     0.2-0.4 s to come back to about where it started."""
     span = float(np.abs(q_to - q_from).max())
     samples = max(VERIFY_PER_SAMPLE * COLLISION_SAMPLES, int(np.ceil(span / LINE_STEP)) + 1)
-    return keeps_bounds(scene, line, ignore, start_contact(scene, q_from, ignore), samples, target)
+    contact = start_contact(scene, q_from, ignore)
+    clear = keeps_bounds(scene, line, ignore, contact, samples, target)
+    return clear and keeps_upright(scene, spline_positions(line, samples))
 
 
 def _fallbacks(scene: PlanningScene, q_from: np.ndarray, q_to: np.ndarray, stopped):
@@ -170,14 +174,17 @@ def _verified_path(scene, q_from, q_to, guess, ignore, target: Target | None):
         result = optimize_path(scene, q_from, q_to, guess, ignore, samples, target)
         if not result.ok:
             return None, result.reason, result.last
-        dips = path_dips(scene, result.path, ignore, contact, VERIFY_PER_SAMPLE * samples,
-                         target)  # fmt: skip
-        if dips.max() <= DIP_ALLOWANCE:
+        verify = VERIFY_PER_SAMPLE * samples
+        dips = path_dips(scene, result.path, ignore, contact, verify, target)
+        kept_up = keeps_upright(scene, spline_positions(result.path, verify), SLACK)
+        if dips.max() <= DIP_ALLOWANCE and kept_up:
             return result.path, result.reason, None
         guess = np.hstack(result.path.control_points())
         if samples * 2 > MAX_SAMPLES:
             worst = 100 * dips.max()
-            return None, f"dips {worst:.1f} cm inside its bounds between {samples} samples", guess
+            dipped = dips.max() > DIP_ALLOWANCE
+            why = f"dips {worst:.1f} cm inside its bounds" if dipped else "tilts the object held"
+            return None, f"{why} between {samples} samples", guess
         samples *= 2
 
 

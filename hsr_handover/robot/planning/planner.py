@@ -20,7 +20,14 @@ import numpy as np
 from pydrake.math import BsplineBasis
 from pydrake.trajectories import BsplineTrajectory
 
-from hsr_handover.hsr import BASE_JOINTS, GRIPPER_JOINT, GRIPPER_MIMIC_JOINT, PALM_FRAME
+from hsr_handover.hsr import (
+    ARM_JOINTS,
+    BASE_JOINTS,
+    GRIPPER_JOINT,
+    GRIPPER_MIMIC_JOINT,
+    PALM_FRAME,
+    TORSO_JOINT,
+)
 from hsr_handover.robot.effectivity.arm_map import ArmEffectivity
 from hsr_handover.robot.effectivity.person_map import PersonEffectivity
 from hsr_handover.robot.perception.object_shapes import ObjectShape
@@ -29,7 +36,7 @@ from hsr_handover.robot.planning.handover_pose import (
     plan_handover_pose,
     unseeded_handover_pose,
 )
-from hsr_handover.robot.planning.inverse_kinematics import PalmGoal, solve_palm_ik
+from hsr_handover.robot.planning.inverse_kinematics import PalmGoal, palm_goal, solve_palm_ik
 from hsr_handover.robot.planning.paths import RETRY, search_path
 from hsr_handover.robot.planning.plan import Motion, Plan
 from hsr_handover.robot.planning.planning_scene import PERSON, PlanningScene
@@ -41,6 +48,12 @@ from hsr_handover.robot.planning.trajectory import (
     STOWED,
     approached_target,
     start_contact,
+)
+from hsr_handover.robot.planning.upright import (
+    SLACK,
+    keeps_upright,
+    spline_positions,
+    turned_up,
 )
 from hsr_handover.robot.planning.verification import (
     DIP_ALLOWANCE,
@@ -67,6 +80,7 @@ STOWED_HOLDING = {"arm_lift_joint": 0.3, "torso_lift_joint": 0.15}
 """Stowed with an object still in the hand (a handover nobody took), the arm raised 30 cm: at
 STOWED's height the object rests on the base's front, which levered a cup out of the fingers
 2 s after the retreat."""
+AS_HELD = "the arm as it holds the object"  # a handover pose's retry, when its carry failed
 BACK_OFF_M = 0.20
 """m the palm first backs straight out, against its approach, when a retreat starts within the
 collision bound of the person: after letting go, the hand that took the object is at the
@@ -238,8 +252,10 @@ def _way_back(scene, q_now, q_to, came, ignore, limits, watch: Stopwatch) -> Pla
             first = (("came", points),)
             path = BsplineTrajectory(BsplineBasis(4, points.shape[1]), points)
             contact = start_contact(scene, q_now, ignore)
-            dips = path_dips(scene, path, ignore, contact, VERIFY_PER_SAMPLE * COLLISION_SAMPLES)
-        if dips.max() <= DIP_ALLOWANCE:
+            samples = VERIFY_PER_SAMPLE * COLLISION_SAMPLES
+            dips = path_dips(scene, path, ignore, contact, samples)
+            kept_up = keeps_upright(scene, spline_positions(path, samples), SLACK)
+        if dips.max() <= DIP_ALLOWANCE and kept_up:
             with watch.stage("timing"):
                 timed = time_path(path, limits)
             if timed.ok:
@@ -284,13 +300,15 @@ def _stowed(
 ) -> np.ndarray:
     """`q_now` with the arm in `posture`, the base backed up by the first of STOW_BACK_UPS
     that clears the collision bound (the last if none does): a base that came up to the table
-    to present an object has no room there to fold the arm."""
+    to present an object has no room there to fold the arm. An object held stays up
+    (`upright.turned_up`)."""
     x, y, yaw = (scene.index(joint) for joint in BASE_JOINTS)
     for back in STOW_BACK_UPS:
         q_stowed = q_now.copy()
         for joint, value in posture.items():
             q_stowed[scene.index(joint)] = value
         q_stowed[[x, y]] -= back * np.array([np.cos(q_now[yaw]), np.sin(q_now[yaw])])
+        q_stowed = turned_up(scene, q_stowed)
         if scene.clearance_at(q_stowed, ignore) >= COLLISION_BOUND:
             break
     return q_stowed
@@ -326,8 +344,32 @@ def _plan_handover(scene, arm_map, person, q_now, limits, ignore: tuple[str, ...
     leg = Leg("carry", ignore, q_now, pose.q)
     plan = _plan_legs(scene, HANDOVER, (leg,), limits, watch, ik_solves=1)
     retried = (f"handover pose: {pose.found_by}",) if pose.found_by else ()
+    if not plan.ok:
+        with watch.stage(RETRY):
+            q_held = _as_held(scene, pose.q, q_now, ignore)
+        if q_held is not None:
+            leg = Leg("carry", ignore, q_now, q_held)
+            again = _plan_legs(scene, HANDOVER, (leg,), limits, watch, ik_solves=2)
+            if again.ok:
+                plan, pose = again, dataclasses.replace(pose, q=q_held)
+                retried += (f"handover pose: {AS_HELD}",)
     plan = dataclasses.replace(plan, retried=retried + plan.retried)
     return dataclasses.replace(plan, pose=pose) if plan.ok else plan
+
+
+def _as_held(scene: PlanningScene, q_pose: np.ndarray, q_now: np.ndarray, ignore):
+    """The hand as at `q_pose`, the base there too, reached from the arm as it holds the object
+    at `q_now` (IK seeded by it), when that is another configuration; else None. The arm's map
+    seeds the pose on one turn of the arm's and the wrist's rolls, and an object grasped on
+    the other turn has no way there that keeps it up: rolled over at the wrist, as a grasp from
+    the side at the table's far edge can be, the way to the map's turn swings it 130 degrees."""
+    seed = q_pose.copy()
+    for joint in (*ARM_JOINTS, TORSO_JOINT):
+        seed[scene.index(joint)] = q_now[scene.index(joint)]
+    found = solve_palm_ik(scene, palm_goal(scene, q_pose), seed, ignore=ignore, base_fixed=True)
+    if not found.ok or np.abs(found.q - q_pose).max() <= AT_POSTURE:
+        return None
+    return found.q
 
 
 def _plan_legs(

@@ -45,6 +45,7 @@ from hsr_handover.hsr import (
 from hsr_handover.robot.perception.object_shapes import CYLINDER, ObjectShape
 from hsr_handover.robot.perception.table_fit import TableEstimate
 from hsr_handover.robot.planning.perceived_scene import Capsule, PerceivedScene
+from hsr_handover.robot.planning.upright import Upright, upright_for
 
 PLANNING_TIME_STEP = 0.01  # s: the HSR's mimic couplings need a discrete plant; never stepped
 TABLE, PERSON, HELD = "table", "person", "held"
@@ -106,6 +107,7 @@ class PlanningScene:
         self.robot = add_hsr(plant, Parser(plant))
         self.scene = scene
         self.geometry: dict[str, list[GeometryId]] = {}
+        self.upright: Upright | None = None  # the held object's, while `holding`
         if scene.table is not None:
             self._add(TABLE, *_table_block(scene.table))
         for shape in scene.objects:
@@ -240,7 +242,8 @@ class PlanningScene:
         while it still stands where the hand closed on it), widened by HELD_SPREAD all round,
         underneath too. With the HSR's positions now, `q_now`, the detections that are the
         held object seen again where it is now (`seen_in_hand`) are left out too. An object
-        not in the scene and without a `shape` changes nothing."""
+        not in the scene and without a `shape` changes nothing. Every IK and path within the
+        block keeps the object up (`upright`)."""
         shape = self.scene.object_named(label) if shape is None else shape
         if shape is None:
             yield
@@ -261,10 +264,12 @@ class PlanningScene:
             CollisionFilterDeclaration().ExcludeBetween(self.robot_geometry, GeometrySet([held]))
         )
         self.geometry[HELD] = [held]
+        self.upright = upright_for(shape, X_WH.rotation().matrix())
         try:
             with self.ignoring((label, *seen)):
                 yield
         finally:
+            self.upright = None
             del self.geometry[HELD]
             manager.RemoveDeclaration(handle)
             self.scene_graph.RemoveGeometry(self._scene_graph_context, source, held)

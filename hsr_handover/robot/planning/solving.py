@@ -69,7 +69,8 @@ INFEASIBLE_CODE = "kInfeasibleConstraints"
 
 def verdict(reasons: str) -> str:
     """INFEASIBLE when every failed solve named in `reasons` ("no path (...)", "no IK solution
-    (...)", "dips ...") ended in SNOPT's verdict of infeasibility, a local one (from another
-    guess there may be a way), else SOLVER_TROUBLE."""
-    tried = sum(reasons.count(failure) for failure in ("no path", "no IK solution", "dips"))
+    (...)", "dips ...", "tilts ...") ended in SNOPT's verdict of infeasibility, a local one
+    (from another guess there may be a way), else SOLVER_TROUBLE."""
+    failures = ("no path", "no IK solution", "dips", "tilts")
+    tried = sum(reasons.count(failure) for failure in failures)
     return INFEASIBLE if tried and reasons.count(INFEASIBLE_CODE) == tried else SOLVER_TROUBLE

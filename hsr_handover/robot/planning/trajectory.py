@@ -22,6 +22,8 @@ box 7 cm through a neighbouring cup) or the same obstacle with another part (fin
 inside the perceived table's block license neither the palm nor the base to come that near
 it).
 
+An object held keeps its top up at the samples too (`upright.path_bound`).
+
 A grasp's approach may touch the object it closes on, but only as its goal does (`Target`): no
 nearer to it anywhere on the way than the pads straddling it at the end.
 """
@@ -34,15 +36,25 @@ from collections.abc import Mapping
 
 import numpy as np
 from pydrake.geometry import GeometryId
-from pydrake.multibody.inverse_kinematics import MinimumDistanceLowerBoundConstraint
+from pydrake.multibody.inverse_kinematics import (
+    AngleBetweenVectorsConstraint,
+    MinimumDistanceLowerBoundConstraint,
+)
 from pydrake.planning import KinematicTrajectoryOptimization
 from pydrake.trajectories import BsplineTrajectory
 
-from hsr_handover.hsr import BASE_JOINTS, GRIPPER_JOINT, GRIPPER_MIMIC_JOINT, HEAD_JOINTS
+from hsr_handover.hsr import (
+    BASE_JOINTS,
+    GRIPPER_JOINT,
+    GRIPPER_MIMIC_JOINT,
+    HEAD_JOINTS,
+    PALM_FRAME,
+)
 from hsr_handover.robot.planning import solving
 from hsr_handover.robot.planning.outcome import Outcome
 from hsr_handover.robot.planning.planning_scene import PlanningScene
 from hsr_handover.robot.planning.solving import solve, solved
+from hsr_handover.robot.planning.upright import path_bound
 
 CONTROL_POINTS = 10
 ROUTE_CONTROL_POINTS = 16  # for a way round the table
@@ -193,6 +205,9 @@ def optimize_path(
         if alone is not None:
             root, context = alone
             constraints += [root, context, _keep_clear_of(trajopt, scene, target, context, samples)]
+        if scene.upright is not None:
+            bound = path_bound(scene, q_start, q_goal)
+            constraints.append(_keep_up(trajopt, scene, bound, samples))
         trajopt.SetInitialGuess(BsplineTrajectory(trajopt.basis(), guess * 1.0))
         result = solve(trajopt.prog(), effort=solving.PATH_EFFORT)
         usable = solved(trajopt.prog(), result)
@@ -246,6 +261,19 @@ def _keep_clear_of(trajopt, scene: PlanningScene, target: Target, context, sampl
     for spot in np.linspace(0.0, 1.0, samples):
         trajopt.AddPathPositionConstraint(bound, spot)
     return bound
+
+
+def _keep_up(trajopt, scene: PlanningScene, bound: float, samples: int):
+    """Keep the held object within `bound` (rad) of upright at `samples` evenly spaced points;
+    the constraint, to keep alive through the solve."""
+    plant = scene.plant
+    hand = plant.GetFrameByName(PALM_FRAME, scene.robot).body().body_frame()
+    up = AngleBetweenVectorsConstraint(plant, plant.world_frame(), [0.0, 0.0, 1.0], hand,
+                                       scene.upright.up_in_hand, 0.0, bound,
+                                       scene.plant_context)  # fmt: skip
+    for spot in np.linspace(0.0, 1.0, samples):
+        trajopt.AddPathPositionConstraint(up, spot)
+    return up
 
 
 def _keep_clear(trajopt, scene: PlanningScene, contact: StartContact, samples: int) -> list:
