@@ -117,3 +117,15 @@ def test_the_target_put_back_on_the_table_is_placed_not_carried_into_it():
     caught = _carried()
     caught.observe(2.0, START | {"cup": START["cup"] + 0.03}, HELD + [("cup", TABLE)], "")
     assert caught.score.table_contact == 2.0
+
+
+def test_the_target_tilts_count_only_while_the_robot_carries_it():
+    watch = TrialWatch("cup")
+    watch.observe(0.0, dict(START), [], "", tilt=80.0)  # knocked over by the person, say
+    watch = _carried()
+    watch.observe(2.0, START | {"cup": 0.9}, HELD, "", tilt=15.0)
+    watch.observe(3.0, START | {"cup": 0.9}, HELD, "", tilt=9.0)
+    assert watch.score.held_tilt == 15.0  # the most while carried
+    watch.observe(4.0, START | {"cup": 0.9}, HELD + [("cup", HAND)], "cup", tilt=10.0)
+    watch.observe(5.0, START | {"cup": 0.9}, [("cup", HAND)], "cup", tilt=60.0)
+    assert watch.score.held_tilt == 15.0  # the person's to tilt once they hold it

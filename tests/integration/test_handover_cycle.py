@@ -62,6 +62,7 @@ def test_the_truth_judges_it_a_clean_handover(demo):
     names = {obj.color: obj.name for obj in scenario.objects}
     row = judge(trial, report.cycle, score, report.person_holds, names)
     assert row["handed_over"] and row["retrieved"] and row["failure"] == "", row
+    assert 0.0 < score.held_tilt < 100.0 and not row["spilled"]  # a box: at most on its side
     assert 0 < row["recognition_s"] < 3 and 10 < row["execution_s"] < 25
 
 

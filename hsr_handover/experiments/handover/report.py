@@ -11,6 +11,7 @@ matplotlib.use("Agg")  # files only: no display on a robot's or CI's machine
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.ticker import MaxNLocator  # noqa: E402
 
+from hsr_handover.experiments.handover.scoring import SPILL_TILT_DEG  # noqa: E402
 from hsr_handover.experiments.html_report import RateRow  # noqa: E402
 from hsr_handover.experiments.reporting import (  # noqa: E402
     bars_beside_paper,
@@ -27,7 +28,8 @@ CSV_COLUMNS = (
     "handed_over", "graceful", "failure", "outcome", "robot_failure", "reason", "person_holds",
     "table_contact", "person_contact", "knocked", "person_knocked", "set_down_m", "table_contact_s",
     "person_contact_s", "dropped_s", "gripped_s", "released_s", "clearance_table_m",
-    "clearance_person_m", "table_height_error_m", "recognition_s", "planning_s", "execution_s",
+    "clearance_person_m", "table_height_error_m", "held_tilt_deg", "spilled", "recognition_s",
+    "planning_s", "execution_s",
     "watch_lift_m", "handed_to", "seed", "person_height_m", "person_x_m", "person_y_m",
     "person_yaw_rad", "person_moved_back_m", "sim_s", "wall_s", "arm_nearest", "arm_error_deg",
     "error",
@@ -87,6 +89,9 @@ def summary_lines(summary: dict) -> list[str]:
         f"{summary['person_contacts']}; objects knocked in {summary['objects_knocked']} "
         f"(by the person, before the robot lifted them, in {summary['person_knocked']}); "
         f"objects lifted by mistake and not put back standing in {summary['objects_misplaced']}",
+        f"cups tilted past spilling ({SPILL_TILT_DEG:.0f}°) while carried: "
+        f"{summary['cups_spilled']}; the most an object asked for tilted: "
+        f"{format_value(summary['most_held_tilt_deg'], '.0f', '°')}",
         f"medians over successful handovers: recognition "
         f"{format_value(times['recognition'], '.2f', ' s')}, planning "
         f"{format_value(times['planning'], '.2f', ' s')} (wall), execution "

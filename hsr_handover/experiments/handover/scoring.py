@@ -27,6 +27,9 @@ DROPPED = 0.01
 """m above where it stood: an object picked up and back this low, touching neither the robot
 nor the person's closed hand, has dropped (HandoverSim: not held, and touching the table or
 below it)."""
+SPILL_TILT_DEG = 23.0
+"""deg from upright past which a cup carried spills: a 10 cm cup filled to 1.5 cm under its rim
+(tan 23° = 1.5 / 3.5, its radius). The robot keeps a cup within 20° (`planning.upright`)."""
 CLEARANCE_EVERY_S = 0.05  # s between clearance measurements
 NEAR = 0.5  # m: distances beyond this are not measured
 PERCEIVED_TABLE = "table"  # the robot's output of the table it perceives (PERCEPTION_OUTPUTS)
@@ -46,7 +49,8 @@ class TrialScore:
     object the robot lifted (and should have put back), how far above where it stood it was last
     seen (`set_down`, m: about 0 when put back standing; a box down on its side reads 3 cm
     below); and the most the robot's perceived table top was off the true one's height
-    (`table_height_error`, m; NaN if it never perceived one)."""
+    (`table_height_error`, m; NaN if it never perceived one); and the most the target tilted
+    from upright while the robot carried it (`held_tilt`, deg)."""
 
     lifted: dict[str, float] = dataclasses.field(default_factory=dict)
     dropped: float = math.nan
@@ -59,12 +63,14 @@ class TrialScore:
     clearance_person: float = math.inf
     set_down: dict[str, float] = dataclasses.field(default_factory=dict)
     table_height_error: float = math.nan
+    held_tilt: float = 0.0
 
 
 class TrialWatch:
     """The scoring rules on plain observations, knowing nothing of Drake: after each step,
     `observe` the objects' heights, the pairs of owners in contact (ROBOT, TABLE, PERSON, HAND
-    or an object's name) and the object the person's hand holds ("" for none)."""
+    or an object's name), the object the person's hand holds ("" for none) and the target's
+    tilt from upright."""
 
     def __init__(self, target: str):
         self.score = TrialScore()
@@ -90,12 +96,20 @@ class TrialWatch:
         return name in self.score.lifted and up
 
     def observe(
-        self, time: float, heights: dict[str, float], contacts: list[tuple[str, str]], grip: str
+        self,
+        time: float,
+        heights: dict[str, float],
+        contacts: list[tuple[str, str]],
+        grip: str,
+        tilt: float = 0.0,
     ) -> None:
+        """`tilt` is the target's from upright (deg)."""
         if math.isnan(self.score.gripped) and grip == self._target:
             self.score.gripped = time
         held = any(self._target in pair and ROBOT in pair for pair in contacts)
         self._heights(time, heights, held)
+        if self.carrying():
+            self.score.held_tilt = max(self.score.held_tilt, tilt)
         for a, b in contacts:
             self._contact(time, a, b)
 
@@ -143,6 +157,7 @@ class HandoverScorer:
         station = simulation.station
         self._plant = station.plant
         self._watch = TrialWatch(target)
+        self._target = target
         self._owner = geometry_owners(station)
         self._target_geometries = {g for g, owner in self._owner.items() if owner == target}
         self._bodies = {name: self._body(instance) for name, instance in station.objects.items()}
@@ -165,9 +180,11 @@ class HandoverScorer:
         time = root.get_time()
         plant_context = self._plant.GetMyContextFromRoot(root)
         grip = self._grip_now(root) if math.isnan(self.score.gripped) else ""
-        heights = {name: body.EvalPoseInWorld(plant_context).translation()[2]
-                   for name, body in self._bodies.items()}  # fmt: skip
-        self._watch.observe(time, heights, self._contacts(plant_context), grip)
+        poses = {name: body.EvalPoseInWorld(plant_context) for name, body in self._bodies.items()}
+        heights = {name: pose.translation()[2] for name, pose in poses.items()}
+        up = float(np.clip(poses[self._target].rotation().matrix()[2, 2], -1.0, 1.0))
+        tilt = math.degrees(math.acos(up))  # each object stands on its frame's z axis
+        self._watch.observe(time, heights, self._contacts(plant_context), grip, tilt)
         if time >= self._next_clearance:
             self._next_clearance = time + CLEARANCE_EVERY_S
             self._clearance(plant_context)

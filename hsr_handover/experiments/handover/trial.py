@@ -26,7 +26,12 @@ from hsr_handover.experiments.experiment import (
     rate,
     replay_while_running,
 )
-from hsr_handover.experiments.handover.scoring import DROPPED, HandoverScorer, TrialScore
+from hsr_handover.experiments.handover.scoring import (
+    DROPPED,
+    SPILL_TILT_DEG,
+    HandoverScorer,
+    TrialScore,
+)
 from hsr_handover.experiments.handover.trials import TIME_LIMIT_S, HandoverTrial, make_trials
 from hsr_handover.experiments.layouts import write_trial_scenario
 from hsr_handover.experiments.seating import sit_clear
@@ -131,6 +136,8 @@ def judge(
         "dropped_s": score.dropped, "gripped_s": score.gripped, "released_s": release_time,
         "clearance_table_m": score.clearance_table, "clearance_person_m": score.clearance_person,
         "table_height_error_m": score.table_height_error,
+        "held_tilt_deg": score.held_tilt,
+        "spilled": _is_cup(trial) and score.held_tilt > SPILL_TILT_DEG,
         "recognition_s": cycle.recognised_time - trial.pointing_onset,
         "planning_s": cycle.planning_s, "execution_s": release_time - cycle.recognised_time,
         "watch_lift_m": cycle.watch_lift, "handed_to": cycle.receiving,
@@ -141,6 +148,11 @@ def judge(
 def _name(names: dict[str, str], label: str | None) -> str:
     """The object's name for the robot's `label` ("" for None)."""
     return names.get(label, label) if label else ""
+
+
+def _is_cup(trial: HandoverTrial) -> bool:
+    """Whether the object asked for is a cup (it may hold a drink)."""
+    return any(obj.name == trial.target and obj.shape == "cup" for obj in trial.scenario.objects)
 
 
 def _wrong_first(target: str, score: TrialScore) -> bool:
@@ -235,7 +247,8 @@ def summarise(experiment: HandoverExperiment) -> dict:
     for want of a response, failures per class, contacts, objects knocked and objects lifted
     by mistake that did not end standing where they stood (`objects_misplaced`), the medians
     of recognition, planning and execution time over successful trials, the least clearance,
-    the most the perceived table top was off the true one's height in any trial, in how many
+    the most the perceived table top was off the true one's height in any trial, the cups that
+    tilted past spilling while carried and the most any object asked for tilted, in how many
     trials the robot watched from a raised torso, refusals handled, and the settings the trials
     ran with."""
     rows = experiment.rows()
@@ -263,6 +276,8 @@ def summarise(experiment: HandoverExperiment) -> dict:
         "objects_knocked": sum(bool(row["knocked"]) for row in ran),
         "objects_misplaced": sum(bool(row.get("set_down_m", math.nan) > DROPPED) for row in ran),
         "person_knocked": sum(bool(row["person_knocked"]) for row in ran),
+        "cups_spilled": sum(bool(row.get("spilled")) for row in ran),
+        "most_held_tilt_deg": _most([row.get("held_tilt_deg", math.nan) for row in ran]),
         "times_s": {
             key: _median([row[f"{key}_s"] for row in succeeded])
             for key in ("recognition", "planning", "execution")
