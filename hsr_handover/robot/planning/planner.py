@@ -341,20 +341,35 @@ def _plan_handover(scene, arm_map, person, q_now, limits, ignore: tuple[str, ...
             pose = plan_handover_pose(scene, arm_map, person, q_now, ignore)
     if not pose.ok:
         return Plan(ok=False, reason=pose.reason, target=HANDOVER, seconds=watch.snapshot())
-    leg = Leg("carry", ignore, q_now, pose.q)
-    plan = _plan_legs(scene, HANDOVER, (leg,), limits, watch, ik_solves=1)
     retried = (f"handover pose: {pose.found_by}",) if pose.found_by else ()
-    if not plan.ok:
-        with watch.stage(RETRY):
-            q_held = _as_held(scene, pose.q, q_now, ignore)
-        if q_held is not None:
-            leg = Leg("carry", ignore, q_now, q_held)
-            again = _plan_legs(scene, HANDOVER, (leg,), limits, watch, ik_solves=2)
-            if again.ok:
-                plan, pose = again, dataclasses.replace(pose, q=q_held)
-                retried += (f"handover pose: {AS_HELD}",)
+    plan = None
+    for q_goal, found_by in _carry_goals(scene, pose.q, q_now, ignore, watch):
+        leg = Leg("carry", ignore, q_now, q_goal)
+        tried = _plan_legs(scene, HANDOVER, (leg,), limits, watch, ik_solves=1 + bool(found_by))
+        plan = tried if plan is None or tried.ok else plan  # failing all, the first reason
+        if tried.ok:
+            pose = dataclasses.replace(pose, q=q_goal)
+            retried += (f"handover pose: {found_by}",) if found_by else ()
+            break
     plan = dataclasses.replace(plan, retried=retried + plan.retried)
     return dataclasses.replace(plan, pose=pose) if plan.ok else plan
+
+
+def _carry_goals(scene: PlanningScene, q_pose, q_now, ignore, watch: Stopwatch):
+    """(configuration, the retry that found it or "") to carry the object to, in turn: the
+    handover pose `q_pose` and the same hand pose on the arm's own turn (`_as_held`), the latter
+    first when the straight way to `q_pose` would tilt the object held past its bound (a sign
+    that the two are on different turns: SNOPT then spent seconds finding no upright way)."""
+    line = np.linspace(q_now, q_pose, COLLISION_SAMPLES)
+    level = keeps_upright(scene, line)
+    if level:
+        yield q_pose, ""
+    with watch.stage(RETRY):
+        q_held = _as_held(scene, q_pose, q_now, ignore)
+    if q_held is not None:
+        yield q_held, AS_HELD
+    if not level:
+        yield q_pose, ""
 
 
 def _as_held(scene: PlanningScene, q_pose: np.ndarray, q_now: np.ndarray, ignore):

@@ -22,6 +22,7 @@ from hsr_handover.robot.planning.inverse_kinematics import PalmGoal, solve_palm_
 from hsr_handover.robot.planning.paths import PathSearch
 from hsr_handover.robot.planning.perceived_scene import PerceivedScene
 from hsr_handover.robot.planning.planning_scene import PlanningScene
+from hsr_handover.robot.planning.stopwatch import Stopwatch
 from hsr_handover.robot.planning.timing import joint_limits
 from hsr_handover.robot.planning.trajectory import PathResult
 from hsr_handover.robot.planning.upright import (
@@ -189,3 +190,17 @@ def test_a_carry_that_fails_is_planned_again_to_the_pose_on_the_arms_turn(
     np.testing.assert_allclose(searched[1], turned)
     np.testing.assert_allclose(plan.goal, turned)
     assert plan.retried == (f"handover pose: {planner.AS_HELD}",)
+
+
+def test_a_pose_whose_straight_way_tips_the_cup_is_tried_after_the_arms_own_turn(scene, level):
+    held = _in_hand(scene, level)
+    with scene.holding("red", level, held):
+        straight = _other_turn(scene, level)
+        straight[scene.index("base_y_joint")] += 0.1
+        first, _ = next(planner._carry_goals(scene, straight, level, ("red",), Stopwatch()))
+        assert first[scene.index("arm_roll_joint")] == pytest.approx(0.0, abs=0.3)  # level's
+        same = level.copy()
+        same[scene.index("base_y_joint")] += 0.1
+        first, found_by = next(planner._carry_goals(scene, same, level, ("red",), Stopwatch()))
+        np.testing.assert_allclose(first, same)
+        assert found_by == ""
