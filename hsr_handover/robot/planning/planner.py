@@ -80,7 +80,7 @@ STOWED_HOLDING = {"arm_lift_joint": 0.3, "torso_lift_joint": 0.15}
 """Stowed with an object still in the hand (a handover nobody took), the arm raised 30 cm: at
 STOWED's height the object rests on the base's front, which levered a cup out of the fingers
 2 s after the retreat."""
-AS_HELD = "the arm as it holds the object"  # a handover pose's retry, when its carry failed
+AS_HELD = "the arm as it holds the object"  # the handover pose again, on the arm's own turn
 BACK_OFF_M = 0.20
 """m the palm first backs straight out, against its approach, when a retreat starts within the
 collision bound of the person: after letting go, the hand that took the object is at the
