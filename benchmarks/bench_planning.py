@@ -45,10 +45,8 @@ from hsr_handover.experiments.layouts import generate_layout
 from hsr_handover.experiments.trials import TrialProgress, run_trials
 from hsr_handover.experiments.true_clearance import TrueClearance
 from hsr_handover.experiments.watch import WATCH_S, watch
-from hsr_handover.hsr import GRIPPER_JOINT, PALM_FRAME
 from hsr_handover.robot.effectivity.arm_map import load_or_build
 from hsr_handover.robot.effectivity.person_map import PersonEffectivity
-from hsr_handover.robot.handover.perceived_planner import pads_centre
 from hsr_handover.robot.handover.watch_view import FLEX, LIFT
 from hsr_handover.robot.perception.object_shapes import BOX, CYLINDER
 from hsr_handover.robot.planning import (
@@ -61,7 +59,7 @@ from hsr_handover.robot.planning import (
     solving,
 )
 from hsr_handover.robot.planning.follow import plan_follow
-from hsr_handover.robot.planning.inverse_kinematics import PalmGoal
+from hsr_handover.robot.planning.inverse_kinematics import PalmGoal, palm_goal
 from hsr_handover.robot.planning.plan import Plan
 from hsr_handover.robot.planning.planner import (
     LOWER,
@@ -75,6 +73,7 @@ from hsr_handover.robot.planning.planner import (
 from hsr_handover.robot.planning.planning_scene import PlanningScene
 from hsr_handover.robot.planning.timing import joint_limits
 from hsr_handover.robot.planning.trajectory import COLLISION_BOUND, CONTROL_POINTS
+from hsr_handover.robot.planning.upright import tilt_from, upright_for
 from hsr_handover.robot.planning.verification import CHECK_STEP
 from hsr_handover.scenario import load_scenario
 
@@ -183,8 +182,9 @@ class Bench:
             record["min_clearance_m"], record["nearest"] = min(scored, default=(None, ""))
         if plan.ok and holding is not None:
             shape = self.planning.scene.object_named(holding[0])
-            record["held"] = "" if shape is None else shape.kind
-            record["held_tilt_deg"] = _held_tilt(self.planning, plan, holding[1])
+            if shape is not None:
+                record["held"] = shape.kind
+                record["held_tilt_deg"] = _held_tilt(self.planning, plan, shape, holding[1])
         if not plan.ok:  # its own draws: a failure leaves the later targets as they were
             with exhaustive(np.random.default_rng(len(self.records))):
                 record["judged"] = "missed" if planning().ok else "unreachable"
@@ -279,13 +279,9 @@ def _carry_and_after(bench: Bench, arm_map, person, grasp: Plan) -> None:
 def _follow_goal(bench: Bench, q: np.ndarray) -> PalmGoal:
     """The hand kept turned as at `q`, its pads moved by up to HAND_MOVED (the person's hand
     moved from the handover point), as the cycle's follow asks."""
-    plant, context = bench.planning.plant, bench.planning.plant_context
-    plant.SetPositions(context, q)
-    palm = plant.GetFrameByName(PALM_FRAME, bench.planning.robot).CalcPoseInWorld(context)
-    aim = pads_centre(palm) + bench.rng.uniform(-1.0, 1.0, 3) * np.array(HAND_MOVED)
-    rotation = palm.rotation().matrix()
-    opening = 2 * q[bench.planning.index(GRIPPER_JOINT)]
-    return PalmGoal(aim, rotation[:, 2], rotation[:, 1], opening)
+    goal = palm_goal(bench.planning, q)
+    moved = bench.rng.uniform(-1.0, 1.0, 3) * np.array(HAND_MOVED)
+    return dataclasses.replace(goal, point=goal.point + moved)
 
 
 def _posture(bench: Bench, q_now: np.ndarray) -> None:
@@ -420,18 +416,14 @@ def _record(spec: SceneSpec, kind: str, variant: str, plan: Plan | None, truth, 
             "nearest": nearest}  # fmt: skip
 
 
-def _held_tilt(planning: PlanningScene, plan: Plan, q_grasp: np.ndarray) -> float:
-    """The most (deg) the object held, upright where the hand closed on it at `q_grasp`,
-    tilts along the plan's motions checked every CHECK_STEP s (the last leg of a put back
-    included: it stands again at its end)."""
-    R_grasp = planning.hand_pose(q_grasp).rotation().matrix()
-    up_in_hand = R_grasp.T @ np.array([0.0, 0.0, 1.0])
-    most = 0.0
-    for motion in plan.motions:
-        for q in motion.sample(CHECK_STEP)[1]:
-            up = planning.hand_pose(q).rotation().matrix() @ up_in_hand
-            most = max(most, math.degrees(math.acos(float(np.clip(up[2], -1.0, 1.0)))))
-    return most
+def _held_tilt(planning: PlanningScene, plan: Plan, shape, q_grasp: np.ndarray) -> float:
+    """The most (deg) the object held (`shape`), upright where the hand closed on it at
+    `q_grasp`, tilts along the plan's motions checked every CHECK_STEP s (the last leg of a put
+    back included: it stands again at its end)."""
+    up = upright_for(shape, planning.hand_pose(q_grasp).rotation().matrix()).up_in_hand
+    return max((math.degrees(tilt_from(planning.hand_pose(q).rotation().matrix(), up))
+                for motion in plan.motions for q in motion.sample(CHECK_STEP)[1]),
+               default=0.0)  # fmt: skip
 
 
 def _true_clearance(plan: Plan, truth: TrueClearance, by_color: dict) -> tuple:

@@ -11,12 +11,12 @@ from collections.abc import Sequence
 import numpy as np
 from pydrake.math import RigidTransform
 
-from hsr_handover.hsr import GRIPPER_JOINT, PALM_FRAME
+from hsr_handover.hsr import PALM_FRAME
 from hsr_handover.robot.effectivity.arm_map import ArmEffectivity
 from hsr_handover.robot.effectivity.person_map import HumanArm, PersonEffectivity
 from hsr_handover.robot.planning.follow import plan_follow
 from hsr_handover.robot.planning.grasps import PAD_OFFSET
-from hsr_handover.robot.planning.inverse_kinematics import PalmGoal
+from hsr_handover.robot.planning.inverse_kinematics import palm_goal
 from hsr_handover.robot.planning.perceived_scene import PerceivedScene
 from hsr_handover.robot.planning.plan import Plan
 from hsr_handover.robot.planning.plan_view import PlanView, palm_path
@@ -138,9 +138,8 @@ class PerceivedPlanner:
         round it where it fits (`planning.follow`)."""
         watch = Stopwatch()
         scene = self._planning(watch)
-        palm = self.palm_pose(q).rotation().matrix()  # the hand keeps the turn it has
-        goal = PalmGoal(np.asarray(aim, dtype=float), palm[:, 2], palm[:, 1],
-                        2 * q[scene.index(GRIPPER_JOINT)])  # fmt: skip
+        # The hand keeps the turn it has.
+        goal = dataclasses.replace(palm_goal(scene, q), point=np.asarray(aim, dtype=float))
         plan = plan_follow(scene, goal, q, v, held, self.limits, self._arm_map)
         return self._viewed(plan, watch)
 

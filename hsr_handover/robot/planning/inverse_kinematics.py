@@ -102,7 +102,7 @@ def _build(scene, goal: PalmGoal, seed, base_fixed: bool, min_distance: float):
     if min_distance > -1:
         ik.AddMinimumDistanceLowerBoundConstraint(min_distance)
     if scene.upright is not None:  # an object held keeps its top up (`upright`)
-        hand = plant.GetFrameByName(PALM_FRAME, scene.robot).body().body_frame()
+        hand = scene.hand().body_frame()
         ik.AddAngleBetweenVectorsConstraint(world, [0.0, 0.0, 1.0], hand,
                                             scene.upright.up_in_hand, 0.0,
                                             scene.upright.most)  # fmt: skip

@@ -30,7 +30,7 @@ from hsr_handover.robot.planning.trajectory import (
     start_contact,
     straight_guess,
 )
-from hsr_handover.robot.planning.upright import SLACK, keeps_upright, spline_positions
+from hsr_handover.robot.planning.upright import SLACK, path_keeps_upright
 from hsr_handover.robot.planning.verification import (
     DIP_ALLOWANCE,
     VERIFY_PER_SAMPLE,
@@ -108,7 +108,7 @@ def _first_tries(scene, q_from, q_to, ignore, straight, target, first=()):
     line = BsplineTrajectory(BsplineBasis(4, CONTROL_POINTS), straight_guess(q_from, q_to))
     if straight:
         dips = path_dips(scene, line, ignore, StartContact(), COLLISION_SAMPLES, target)
-        if dips.max() <= 0 and keeps_upright(scene, spline_positions(line, COLLISION_SAMPLES)):
+        if dips.max() <= 0 and path_keeps_upright(scene, line, COLLISION_SAMPLES):
             return line, "ok", "line", None
     elif _line_clear(scene, line, q_from, q_to, ignore, target):
         return line, "ok", "line", None
@@ -133,7 +133,7 @@ def _line_clear(scene, line, q_from, q_to, ignore, target) -> bool:
     samples = max(VERIFY_PER_SAMPLE * COLLISION_SAMPLES, int(np.ceil(span / LINE_STEP)) + 1)
     contact = start_contact(scene, q_from, ignore)
     clear = keeps_bounds(scene, line, ignore, contact, samples, target)
-    return clear and keeps_upright(scene, spline_positions(line, samples))
+    return clear and path_keeps_upright(scene, line, samples)
 
 
 def _fallbacks(scene: PlanningScene, q_from: np.ndarray, q_to: np.ndarray, stopped):
@@ -176,7 +176,7 @@ def _verified_path(scene, q_from, q_to, guess, ignore, target: Target | None):
             return None, result.reason, result.last
         verify = VERIFY_PER_SAMPLE * samples
         dips = path_dips(scene, result.path, ignore, contact, verify, target)
-        kept_up = keeps_upright(scene, spline_positions(result.path, verify), SLACK)
+        kept_up = path_keeps_upright(scene, result.path, verify, SLACK)
         if dips.max() <= DIP_ALLOWANCE and kept_up:
             return result.path, result.reason, None
         guess = np.hstack(result.path.control_points())

@@ -26,11 +26,11 @@ from hsr_handover.hsr import (
     GRIPPER_JOINT,
     GRIPPER_MIMIC_JOINT,
     PALM_FRAME,
-    TORSO_JOINT,
 )
 from hsr_handover.robot.effectivity.arm_map import ArmEffectivity
 from hsr_handover.robot.effectivity.person_map import PersonEffectivity
 from hsr_handover.robot.perception.object_shapes import ObjectShape
+from hsr_handover.robot.planning.base_placement import with_arm
 from hsr_handover.robot.planning.grasp_configurations import grasp_configurations
 from hsr_handover.robot.planning.handover_pose import (
     plan_handover_pose,
@@ -52,7 +52,7 @@ from hsr_handover.robot.planning.trajectory import (
 from hsr_handover.robot.planning.upright import (
     SLACK,
     keeps_upright,
-    spline_positions,
+    path_keeps_upright,
     turned_up,
 )
 from hsr_handover.robot.planning.verification import (
@@ -254,7 +254,7 @@ def _way_back(scene, q_now, q_to, came, ignore, limits, watch: Stopwatch) -> Pla
             contact = start_contact(scene, q_now, ignore)
             samples = VERIFY_PER_SAMPLE * COLLISION_SAMPLES
             dips = path_dips(scene, path, ignore, contact, samples)
-            kept_up = keeps_upright(scene, spline_positions(path, samples), SLACK)
+            kept_up = path_keeps_upright(scene, path, samples, SLACK)
         if dips.max() <= DIP_ALLOWANCE and kept_up:
             with watch.stage("timing"):
                 timed = time_path(path, limits)
@@ -378,9 +378,7 @@ def _as_held(scene: PlanningScene, q_pose: np.ndarray, q_now: np.ndarray, ignore
     seeds the pose on one turn of the arm's and the wrist's rolls, and an object grasped on
     the other turn has no way there that keeps it up: rolled over at the wrist, as a grasp from
     the side at the table's far edge can be, the way to the map's turn swings it 130 degrees."""
-    seed = q_pose.copy()
-    for joint in (*ARM_JOINTS, TORSO_JOINT):
-        seed[scene.index(joint)] = q_now[scene.index(joint)]
+    seed = with_arm(scene, q_pose, q_now[[scene.index(joint) for joint in ARM_JOINTS]])
     found = solve_palm_ik(scene, palm_goal(scene, q_pose), seed, ignore=ignore, base_fixed=True)
     if not found.ok or np.abs(found.q - q_pose).max() <= AT_POSTURE:
         return None

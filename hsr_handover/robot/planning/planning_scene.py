@@ -254,7 +254,7 @@ class PlanningScene:
         instance = GeometryInstance(X_WH.inverse() @ X_WO, solid, f"held_{label}")
         instance.set_proximity_properties(ProximityProperties())
         source = self.plant.get_source_id()
-        hand = self._hand()
+        hand = self.hand()
         held = self.scene_graph.RegisterGeometry(
             self._scene_graph_context, source, self.plant.GetBodyFrameIdOrThrow(hand.index()),
             instance,
@@ -274,7 +274,7 @@ class PlanningScene:
             manager.RemoveDeclaration(handle)
             self.scene_graph.RemoveGeometry(self._scene_graph_context, source, held)
 
-    def _hand(self) -> Body:
+    def hand(self) -> Body:
         """The body that PALM_FRAME is on: a held object hangs on it."""
         return self.plant.GetFrameByName(PALM_FRAME, self.robot).body()
 
@@ -283,7 +283,7 @@ class PlanningScene:
         are left as they were."""
         positions = self.positions()
         self.plant.SetPositions(self.plant_context, q)
-        X_WH = self._hand().EvalPoseInWorld(self.plant_context)
+        X_WH = self.hand().EvalPoseInWorld(self.plant_context)
         self.plant.SetPositions(self.plant_context, positions)
         return X_WH
 

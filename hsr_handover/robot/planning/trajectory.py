@@ -43,13 +43,7 @@ from pydrake.multibody.inverse_kinematics import (
 from pydrake.planning import KinematicTrajectoryOptimization
 from pydrake.trajectories import BsplineTrajectory
 
-from hsr_handover.hsr import (
-    BASE_JOINTS,
-    GRIPPER_JOINT,
-    GRIPPER_MIMIC_JOINT,
-    HEAD_JOINTS,
-    PALM_FRAME,
-)
+from hsr_handover.hsr import BASE_JOINTS, GRIPPER_JOINT, GRIPPER_MIMIC_JOINT, HEAD_JOINTS
 from hsr_handover.robot.planning import solving
 from hsr_handover.robot.planning.outcome import Outcome
 from hsr_handover.robot.planning.planning_scene import PlanningScene
@@ -267,7 +261,7 @@ def _keep_up(trajopt, scene: PlanningScene, bound: float, samples: int):
     """Keep the held object within `bound` (rad) of upright at `samples` evenly spaced points;
     the constraint, to keep alive through the solve."""
     plant = scene.plant
-    hand = plant.GetFrameByName(PALM_FRAME, scene.robot).body().body_frame()
+    hand = scene.hand().body_frame()
     up = AngleBetweenVectorsConstraint(plant, plant.world_frame(), [0.0, 0.0, 1.0], hand,
                                        scene.upright.up_in_hand, 0.0, bound,
                                        scene.plant_context)  # fmt: skip

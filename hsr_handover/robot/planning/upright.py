@@ -43,12 +43,18 @@ def upright_for(shape: ObjectShape, R_WH: np.ndarray) -> Upright:
     return Upright(up, CUP_TILT if shape.kind == CYLINDER else BOX_TILT)
 
 
+def tilt_from(R_WH: np.ndarray, up_in_hand: np.ndarray) -> float:
+    """The tilt (rad) from the world's vertical of the axis `up_in_hand` of a hand body turned
+    `R_WH` (3x3) in the world."""
+    up = np.asarray(R_WH, dtype=float) @ up_in_hand
+    return math.acos(float(np.clip(up[2], -1.0, 1.0)))
+
+
 def tilt(scene: PlanningScene, q: np.ndarray) -> float:
     """The held object's tilt (rad) from upright with the HSR at `q`; 0 when nothing is held."""
     if scene.upright is None:
         return 0.0
-    up = scene.hand_pose(q).rotation().matrix() @ scene.upright.up_in_hand
-    return math.acos(float(np.clip(up[2], -1.0, 1.0)))
+    return tilt_from(scene.hand_pose(q).rotation().matrix(), scene.upright.up_in_hand)
 
 
 def path_bound(scene: PlanningScene, q_from: np.ndarray, q_to: np.ndarray) -> float:
@@ -88,8 +94,10 @@ def keeps_upright(scene: PlanningScene, positions, slack: float = 0.0) -> bool:
     return all(tilt(scene, q) <= bound for q in positions)
 
 
-def spline_positions(path, samples: int) -> np.ndarray:
-    """The positions (samples, nq) at `samples` evenly spaced times along a path (`value(t)`,
-    `start_time()`, `end_time()`)."""
+def path_keeps_upright(scene: PlanningScene, path, samples: int, slack: float = 0.0) -> bool:
+    """`keeps_upright` at `samples` evenly spaced times along a path (`value(t)`,
+    `start_time()`, `end_time()`), sampled only when an object is held."""
+    if scene.upright is None:
+        return True
     times = np.linspace(path.start_time(), path.end_time(), samples)
-    return np.array([path.value(t).ravel() for t in times])
+    return keeps_upright(scene, [path.value(t).ravel() for t in times], slack)
