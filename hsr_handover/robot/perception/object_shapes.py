@@ -1,11 +1,14 @@
 """How big a detected object is, from depth: a cylinder or a box standing on the table.
 
-The head camera looks down on the table, so it sees an object's top (a cup's rim, a box's lid)
-as well as its front: the horizontal outline of the object's points is its footprint. Both
-footprints are fitted, the smallest enclosing circle and the smallest rectangle
-(`cv2.minEnclosingCircle`, `cv2.minAreaRect`), and the tighter one names the shape: a square's
-enclosing circle is 1.57 times its area, a circle's enclosing square 1.27 times its. The height
-runs from the table's top to the highest point.
+The object's sides name its shape: the points under its top follow an arc for a cup and one or
+two straight faces for a box (`outline_fit`). The footprint alone cannot: the head camera,
+often only a little above the objects, sees less than half of a cup's round and a sliver of its
+rim, and the smallest rectangle around such an arc is tighter than its circle (a cup read as a
+box is grasped from above and may be carried on its side). With too few side points the
+footprint decides: the smallest enclosing circle and rectangle (`cv2.minEnclosingCircle`,
+`cv2.minAreaRect`), the tighter one. A cup's circle is its side's fit; a box's footprint is the
+smallest rectangle around all its points, the lid's included. The height runs from the table's
+top to the highest point.
 """
 
 from __future__ import annotations
@@ -18,6 +21,7 @@ import numpy as np
 
 from hsr_handover.interface.pinhole import PinholeCamera, checked_depth
 from hsr_handover.robot.perception.object_detection import Detection
+from hsr_handover.robot.perception.outline_fit import fit_circle, fit_rectangle
 
 CYLINDER, BOX = "cylinder", "box"
 MAX_OBJECT_RADIUS = 0.15
@@ -26,6 +30,10 @@ a tabletop object a hand can grasp."""
 ABOVE_TABLE = 0.005
 """m: points lower than this above the table's top are the table."""
 MIN_POINTS = 10
+SIDE_BELOW_TOP = 0.015
+"""m: points this far under an object's highest are its side (nearer, the rim's or lid's edge)."""
+MIN_SIDE_POINTS = 30
+"""Side points that name a shape: fewer, and the footprint does."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -77,20 +85,39 @@ def object_points(
 
 
 def fit_shape(label: str, points: np.ndarray, table_height: float) -> ObjectShape | None:
-    """The tighter of a cylinder and a box around the points (N, 3) of one object standing on
-    a table whose top is at `table_height`; None with fewer than MIN_POINTS points."""
+    """The cylinder or box standing on a table whose top is at `table_height` that the points
+    (N, 3) of one object show; None with fewer than MIN_POINTS points."""
     if len(points) < MIN_POINTS:
         return None
+    top = float(points[:, 2].max())
+    height = top - table_height
     xy = points[:, :2].astype(np.float32)
-    (cx, cy), radius = cv2.minEnclosingCircle(xy)
+    side = points[points[:, 2] < top - SIDE_BELOW_TOP, :2]
+    if len(side) < MIN_SIDE_POINTS:
+        return _tighter_footprint(label, xy, table_height, height)
+    circle = fit_circle(side)
+    # a flat face is an arc of a huge circle: a round side is no wider than a graspable object
+    if circle.radius <= MAX_OBJECT_RADIUS and circle.deviation < fit_rectangle(side).deviation:
+        return _cylinder(label, circle.center, circle.radius, table_height, height)
+    return _box(label, xy, table_height, height)
+
+
+def _tighter_footprint(label: str, xy: np.ndarray, table_height: float, height: float):
+    center, radius = cv2.minEnclosingCircle(xy)
+    if math.pi * radius**2 > np.prod(cv2.minAreaRect(xy)[1]):
+        return _box(label, xy, table_height, height)
+    return _cylinder(label, np.array(center), radius, table_height, height)
+
+
+def _cylinder(label: str, center, radius: float, table_height: float, height: float):
+    return ObjectShape(label, CYLINDER, np.asarray(center, dtype=float), np.full(2, 2 * radius),
+                       0.0, table_height, height)  # fmt: skip
+
+
+def _box(label: str, xy: np.ndarray, table_height: float, height: float) -> ObjectShape:
     (bx, by), (length, width), angle = cv2.minAreaRect(xy)
-    height = float(points[:, 2].max() - table_height)
-    if math.pi * radius**2 <= length * width:
-        return ObjectShape(label, CYLINDER, np.array([cx, cy]), np.full(2, 2 * radius), 0.0,
-                           table_height, height)  # fmt: skip
-    yaw = math.radians(angle)
-    return ObjectShape(label, BOX, np.array([bx, by]), np.array([length, width]), yaw,
-                       table_height, height)  # fmt: skip
+    return ObjectShape(label, BOX, np.array([bx, by]), np.array([length, width]),
+                       math.radians(angle), table_height, height)  # fmt: skip
 
 
 def measure_objects(

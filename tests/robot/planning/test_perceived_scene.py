@@ -66,6 +66,59 @@ def test_a_box_is_a_box_with_its_sides_and_yaw():
     assert shape.radius == pytest.approx(math.hypot(0.05, 0.03), abs=3e-3)
 
 
+def _seen_level_with_its_top(points: np.ndarray, rng, noise: float = 0.0) -> np.ndarray:
+    """`points` with the far two thirds of the top left out (a camera barely above it sees only
+    the top's near edge) and, given `noise` (m), depth noise along the rays from a camera at
+    the origin, 1 m up."""
+    top = points[:, 2].max()
+    far = (points[:, 2] > top - 1e-6) & (points[:, 0] > points[:, 0].min() + 0.02)
+    points = points[~far]
+    rays = points - [0.0, 0.0, TABLE_TOP + 0.25]
+    rays /= np.linalg.norm(rays, axis=1, keepdims=True)
+    return points + rays * rng.normal(0.0, noise, (len(points), 1))
+
+
+def _box_seen_from_the_origin(center, sides, yaw, height, rng) -> np.ndarray:
+    """The two faces of an upright box (`sides` along its yaw and across) that face a camera at
+    the origin, and its lid."""
+    turn = np.array([[math.cos(yaw), -math.sin(yaw)], [math.sin(yaw), math.cos(yaw)]])
+    a, b = np.asarray(sides) / 2
+    faces = []
+    for normal, half, other in (([1, 0], b, a), ([0, 1], a, b)):
+        for sign in (-1, 1):
+            outward = turn @ (sign * np.asarray(normal, float))
+            if outward @ (np.zeros(2) - center) <= 0:
+                continue
+            along = rng.uniform(-half, half, 400)
+            local = sign * other * np.asarray(normal, float) + np.outer(along, normal[::-1])
+            heights = rng.uniform(TABLE_TOP, TABLE_TOP + height, 400)
+            faces.append(np.column_stack([center + local @ turn.T, heights]))
+    lid = rng.uniform([-a, -b], [a, b], (300, 2))
+    faces.append(np.column_stack([center + lid @ turn.T, np.full(300, TABLE_TOP + height)]))
+    return np.vstack(faces)
+
+
+@pytest.mark.parametrize("noise", [0.0, 0.0015])
+def test_a_cup_seen_level_with_its_rim_is_a_cylinder_of_its_size(noise):
+    """The front of a cup is an arc whose smallest rectangle is tighter than its circle: its
+    footprint alone reads it as a box. Its side's arc names it, with a depth camera's noise
+    (1.5 mm at 1 m) too."""
+    rng = np.random.default_rng(2)
+    cup = _cylinder_seen_from((0, 0), (0.8, 0.2), 0.035, 0.1, rng)
+    shape = fit_shape("red", _seen_level_with_its_top(cup, rng, noise), TABLE_TOP)
+    assert shape.kind == CYLINDER
+    np.testing.assert_allclose(shape.center, [0.8, 0.2], atol=2e-3 + 2 * noise)
+    assert shape.radius == pytest.approx(0.035, abs=1e-3 + 2 * noise)
+
+
+@pytest.mark.parametrize("noise", [0.0, 0.0015])
+def test_a_box_seen_level_with_its_lid_is_a_box(noise):
+    rng = np.random.default_rng(3)
+    box = _box_seen_from_the_origin(np.array([0.85, -0.15]), (0.07, 0.06), 0.5, 0.11, rng)
+    shape = fit_shape("blue", _seen_level_with_its_top(box, rng, noise), TABLE_TOP)
+    assert shape.kind == BOX
+
+
 def test_too_few_points_make_no_shape():
     points = np.full((MIN_POINTS - 1, 3), [0.8, 0.0, 0.8])
     assert fit_shape("red", points, TABLE_TOP) is None
