@@ -112,11 +112,18 @@ def test_a_cup_seen_level_with_its_rim_is_a_cylinder_of_its_size(noise):
 
 
 @pytest.mark.parametrize("noise", [0.0, 0.0015])
-def test_a_box_seen_level_with_its_lid_is_a_box(noise):
+def test_a_box_seen_corner_on_and_level_with_its_lid_is_a_box_turned_as_its_faces(noise):
+    """The smallest rectangle around two faces seen corner on lies along their diagonal; the
+    box is turned as its faces are."""
     rng = np.random.default_rng(3)
-    box = _box_seen_from_the_origin(np.array([0.85, -0.15]), (0.07, 0.06), 0.5, 0.11, rng)
+    center, yaw = np.array([0.85, -0.15]), math.atan2(-0.15, 0.85) + math.radians(45.0)
+    box = _box_seen_from_the_origin(center, (0.07, 0.06), yaw, 0.11, rng)
     shape = fit_shape("blue", _seen_level_with_its_top(box, rng, noise), TABLE_TOP)
     assert shape.kind == BOX
+    turned = shape.yaw if shape.size[0] > shape.size[1] else shape.yaw + math.pi / 2
+    assert math.sin(turned - yaw) == pytest.approx(0.0, abs=0.05)
+    assert sorted(shape.size) == pytest.approx([0.06, 0.07], abs=2e-3 + 4 * noise)
+    np.testing.assert_allclose(shape.center, center, atol=2e-3 + 2 * noise)
 
 
 def test_too_few_points_make_no_shape():
