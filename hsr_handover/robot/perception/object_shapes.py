@@ -104,14 +104,16 @@ def fit_shape(label: str, points: np.ndarray, table_height: float) -> ObjectShap
     return _box_along(label, xy, rectangle.yaw, table_height, height)
 
 
-def _tighter_footprint(label: str, xy: np.ndarray, table_height: float, height: float):
+def _tighter_footprint(
+    label: str, xy: np.ndarray, table_height: float, height: float
+) -> ObjectShape:
     center, radius = cv2.minEnclosingCircle(xy)
     if math.pi * radius**2 > np.prod(cv2.minAreaRect(xy)[1]):
         return _box(label, xy, table_height, height)
     return _cylinder(label, np.array(center), radius, table_height, height)
 
 
-def _cylinder(label: str, center, radius: float, table_height: float, height: float):
+def _cylinder(label: str, center, radius: float, table_height: float, height: float) -> ObjectShape:
     return ObjectShape(label, CYLINDER, np.asarray(center, dtype=float), np.full(2, 2 * radius),
                        0.0, table_height, height)  # fmt: skip
 
@@ -122,7 +124,9 @@ def _box(label: str, xy: np.ndarray, table_height: float, height: float) -> Obje
                        math.radians(angle), table_height, height)  # fmt: skip
 
 
-def _box_along(label: str, xy: np.ndarray, yaw: float, table_height: float, height: float):
+def _box_along(
+    label: str, xy: np.ndarray, yaw: float, table_height: float, height: float
+) -> ObjectShape:
     """The box turned `yaw` (its faces' orientation) around the points `xy` (N, 2): the
     smallest rectangle around two faces seen corner on lies along their diagonal."""
     axes = np.array([[math.cos(yaw), math.sin(yaw)], [-math.sin(yaw), math.cos(yaw)]])
