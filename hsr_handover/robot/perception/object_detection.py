@@ -155,6 +155,11 @@ def _detections_of_color(
     return detections
 
 
+def label_colour(label: str) -> str:
+    """The colour a detection's label names: "purple#2", the second purple blob, is purple."""
+    return label.partition("#")[0]
+
+
 def _degraded_input_reason(
     rgb: np.ndarray, depth: np.ndarray, camera: PinholeCamera, X_WC: np.ndarray
 ) -> str | None:

@@ -219,9 +219,11 @@ def plan_put_back(
     the grasp plan lifted it to) with the object moving with the hand, first along the way it
     came (`came`: configurations from `q_lifted` to `q_now`, the optimiser's first guess),
     then the lift backwards, straight down to `held.q_grasp`, the object standing where it
-    stood (ignored there, as on the way up). Never raises: `reason` says why there is none."""
+    stood (ignored there, as on the way up, with whatever is remembered of it there:
+    `PlanningScene.seen_where_it_stood`). Never raises: `reason` says why there is none."""
     watch = Stopwatch(STAGES)
-    ignore = (held.label,)
+    stood = () if held.shape is None else scene.seen_where_it_stood(held.shape)
+    ignore = (held.label, *stood)
     back: tuple[Motion, ...] = ()
     retried: tuple[str, ...] = ()
     if np.abs(q_now - q_lifted).max() > AT_POSTURE:

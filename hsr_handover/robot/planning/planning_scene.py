@@ -42,6 +42,7 @@ from hsr_handover.hsr import (
     add_hsr,
     hsr_set_positions,
 )
+from hsr_handover.robot.perception.object_detection import label_colour
 from hsr_handover.robot.perception.object_shapes import CYLINDER, ObjectShape
 from hsr_handover.robot.perception.table_fit import TableEstimate
 from hsr_handover.robot.planning.perceived_scene import Capsule, PerceivedScene
@@ -304,6 +305,20 @@ class PlanningScene:
             if seen.label != shape.label
             and np.hypot(*(seen.center - centre[:2])) < shape.radius
             and seen.bottom + seen.height > bottom
+        )
+
+    def seen_where_it_stood(self, shape: ObjectShape) -> tuple[str, ...]:
+        """The labels of the perceived objects of `shape`'s colour, other than `shape`, whose
+        footprint's centre lies within its footprint where it stood: the object itself,
+        remembered there from a view in which the arm split its blob in two (a second label),
+        which a put back would otherwise meet at the very place it puts the object."""
+        colour = label_colour(shape.label)
+        return tuple(
+            seen.label
+            for seen in self.scene.objects
+            if seen.label != shape.label
+            and label_colour(seen.label) == colour
+            and np.hypot(*(seen.center - shape.center)) < shape.radius
         )
 
     def query(self) -> QueryObject:

@@ -423,6 +423,24 @@ def test_an_object_is_put_back_the_way_it_came_and_lowered_onto_its_place(scene,
     assert clear.ok and clear.motions == ()
 
 
+def test_what_is_remembered_of_the_object_where_it_stood_does_not_stop_its_put_back(scene, arm_map):
+    """The arm split the cup's blob in two as it closed in, and the smaller piece, `red#2`, is
+    remembered where the cup stood: it is the cup, and putting the cup back there is no
+    collision with it."""
+    limits = joint_limits(scene.plant)
+    grasp = plan_grasp(scene, arm_map, "red", _ready(scene), limits)
+    assert grasp.ok, grasp.reason
+    piece = ObjectShape("red#2", BOX, grasp.held.shape.center + [0.01, 0.0],
+                        np.array([0.025, 0.03]), 0.0, TABLE_TOP, 0.10)  # fmt: skip
+    remembered = PlanningScene(
+        dataclasses.replace(scene.scene, objects=(*scene.scene.objects, piece))
+    )
+    assert remembered.seen_where_it_stood(grasp.held.shape) == ("red#2",)
+    plan = plan_put_back(remembered, grasp.goal, grasp.held, grasp.goal, limits)
+    assert plan.ok, plan.reason
+    assert [motion.name for motion in plan.motions] == [LOWER]
+
+
 def test_a_base_ruled_out_in_the_table_is_not_clear(scene):
     """`_in_table` rules a base out without a distance query only where the folded robot
     is nearer the table than BASE_CLEARANCE: over a grid of bases round the table, the

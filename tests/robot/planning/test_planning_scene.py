@@ -144,6 +144,15 @@ def test_an_object_held_is_placed_by_its_shape_when_grasped_not_as_seen_since():
     assert clearances == pytest.approx([0.10 - TABLE_MARGIN - HELD_SPREAD] * 3, abs=2e-3)
 
 
+def test_only_a_piece_of_the_objects_own_colour_where_it_stood_is_remembered_of_it():
+    cup = _cup("red", 0.7, 0.0)
+    piece = dataclasses.replace(cup, label="red#2", center=np.array([0.71, 0.01]))
+    elsewhere = dataclasses.replace(piece, label="red#3", center=np.array([0.7, 0.2]))
+    other_colour = dataclasses.replace(piece, label="blue")
+    scene = PlanningScene(PerceivedScene(_table(), (cup, piece, elsewhere, other_colour)))
+    assert scene.seen_where_it_stood(cup) == ("red#2",)
+
+
 def test_the_held_object_seen_again_where_the_hand_has_it_is_left_out():
     """Lifted 10 cm, the cup is seen again as `red#2`, a column from the table up to its top,
     and the hand now starts inside that column: it is the held cup, so it is no obstacle; the
