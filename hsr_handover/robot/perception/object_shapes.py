@@ -108,20 +108,15 @@ def _tighter_footprint(
     label: str, xy: np.ndarray, table_height: float, height: float
 ) -> ObjectShape:
     center, radius = cv2.minEnclosingCircle(xy)
-    if math.pi * radius**2 > np.prod(cv2.minAreaRect(xy)[1]):
-        return _box(label, xy, table_height, height)
+    _, sides, angle = cv2.minAreaRect(xy)
+    if math.pi * radius**2 > np.prod(sides):
+        return _box_along(label, xy, math.radians(angle), table_height, height)
     return _cylinder(label, np.array(center), radius, table_height, height)
 
 
 def _cylinder(label: str, center, radius: float, table_height: float, height: float) -> ObjectShape:
     return ObjectShape(label, CYLINDER, np.asarray(center, dtype=float), np.full(2, 2 * radius),
                        0.0, table_height, height)  # fmt: skip
-
-
-def _box(label: str, xy: np.ndarray, table_height: float, height: float) -> ObjectShape:
-    (bx, by), (length, width), angle = cv2.minAreaRect(xy)
-    return ObjectShape(label, BOX, np.array([bx, by]), np.array([length, width]),
-                       math.radians(angle), table_height, height)  # fmt: skip
 
 
 def _box_along(

@@ -301,10 +301,8 @@ class PlanningScene:
         bottom = centre[2] - shape.height / 2
         return tuple(
             seen.label
-            for seen in self.scene.objects
-            if seen.label != shape.label
-            and np.hypot(*(seen.center - centre[:2])) < shape.radius
-            and seen.bottom + seen.height > bottom
+            for seen in self._others_within(shape, centre[:2])
+            if seen.bottom + seen.height > bottom
         )
 
     def seen_where_it_stood(self, shape: ObjectShape) -> tuple[str, ...]:
@@ -315,11 +313,15 @@ class PlanningScene:
         colour = label_colour(shape.label)
         return tuple(
             seen.label
-            for seen in self.scene.objects
-            if seen.label != shape.label
-            and label_colour(seen.label) == colour
-            and np.hypot(*(seen.center - shape.center)) < shape.radius
+            for seen in self._others_within(shape, shape.center)
+            if label_colour(seen.label) == colour
         )
+
+    def _others_within(self, shape: ObjectShape, centre: np.ndarray) -> list[ObjectShape]:
+        """The perceived objects but `shape` whose footprint's centre lies within `shape`'s
+        footprint (its radius) round `centre` (x, y)."""
+        return [seen for seen in self.scene.objects if seen.label != shape.label
+                and np.hypot(*(seen.center - centre)) < shape.radius]  # fmt: skip
 
     def query(self) -> QueryObject:
         return self.plant.get_geometry_query_input_port().Eval(self.plant_context)
