@@ -1,6 +1,8 @@
 """The perceiving-acting cycle as a plain state machine (paper 3.3): watch, recognise
-the request, plan, approach, grasp, lift, carry to the handover point, wait for the person's
-hand, release when the person holds the object, retreat. Failures end it with a reason.
+the request, plan, approach, grasp, lift, carry to the handover point (checked on the way
+against the person as seen now, and planned again from where it stops if they have moved into
+it), wait for the person's hand, release when the person holds the object, retreat. Failures
+end it with a reason.
 
 It decides from percepts only (`Percepts`: the joint sensors, the gripper's measured opening,
 the intent estimator's target, the object as the camera sees it, the person's hand from the
@@ -39,6 +41,11 @@ from hsr_handover.robot.handover.put_back import PutBack, PuttingBack
 from hsr_handover.robot.handover.take import TakeDetector
 from hsr_handover.robot.planning.plan import Motion, Plan
 from hsr_handover.robot.planning.plan_view import PlanView
+
+AHEAD_STEP_S = 0.05
+"""s between the configurations of a carry's rest checked against the person: the hand moves
+at most a few centimetres in it, and the person's capsules are PERSON_MARGIN (5 cm) wider
+than the skeleton."""
 
 
 class HandoverCycle(PuttingBack, Presenting):
@@ -197,9 +204,15 @@ class HandoverCycle(PuttingBack, Presenting):
             return
         if p.time - self._fetch.turned < self._params.look_s or p.time < self._retry_at:
             return
+        self._plan_carry(p)
+
+    def _plan_carry(self, p: Percepts) -> None:
+        """Plan the carry from where the robot stands and set off (tried again while it finds
+        no way: `_plan`)."""
         planned = self._plan(self.planner.carry(p.q, self._fetch.held), p, holding=True)
         if planned is not None:
             self.record.receiving = planned.receiving
+            self._fetch.stopped, self._fetch.checked = False, p.time
             self._enter(Phase.CARRY, p.time)
             self._motions.play(planned.motions)
 
@@ -212,8 +225,27 @@ class HandoverCycle(PuttingBack, Presenting):
             return
         if self._corrected(p):
             return
-        if not self._moving(p.time):
+        if self._moving(p.time):
+            self._check_way(p)
+        elif not self._fetch.stopped:
             self._start_presenting(p)
+        elif p.time >= self._retry_at:
+            self._plan_carry(p)
+
+    def _check_way(self, p: Percepts) -> None:
+        """Every `recheck_s`, the carry still to go against the person as seen now: one that
+        comes within `carry_clear` of them stops where it is, to be planned again."""
+        fetch, params = self._fetch, self._params
+        if p.time - fetch.checked < params.recheck_s:
+            return
+        fetch.checked = p.time
+        ahead = self._motions.still_to_play(p.time, AHEAD_STEP_S)
+        clearance = self.planner.person_clearance(ahead, fetch.held, params.carry_clear)
+        if clearance >= params.carry_clear:
+            return
+        fetch.carried += tuple(self._motions.played_so_far("carry", p.time))
+        fetch.stopped = True
+        self._hold_still(p)
 
     def _retreat(self, p: Percepts) -> None:
         if self._moving(p.time):

@@ -45,6 +45,22 @@ class CycleParams:
     retry_every_s: float = 1.0
     """s between those tries."""
 
+    # Carrying ---------------------------------------------------------------------------------
+
+    recheck_s: float = 0.5
+    """s between checks of the carry still to go against the person as seen now: a person
+    moves while the robot carries (a pointing arm comes to rest on the table), and a carry
+    planned against the arm as it was ran into the hand at rest. A check rebuilds the planning
+    scene (about 0.1 s of wall time)."""
+    carry_clear: float = -0.03
+    """m: a carry whose rest comes nearer than this to the person's perceived capsules stops
+    and is planned again from where the robot stands. Negative: 3 cm into the capsules'
+    margin (`perceived_scene.PERSON_MARGIN`, 5 cm), still 2 cm off the skeleton. A hand
+    come to rest on the carry's way lies deeper (11 cm), while the lifted skeleton of a
+    person at rest moves a centimetre or two between frames: a carry, planned
+    `trajectory.COLLISION_BOUND` clear of the capsules as they were, checked at zero stopped
+    four more times for that alone (0.2 to 1.9 cm in)."""
+
     # Following the person's hand while presenting -------------------------------------------
 
     offer: float = 0.2

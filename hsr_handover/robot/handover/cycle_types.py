@@ -80,6 +80,10 @@ class CyclePlanner(Protocol):
     def carry(self, q: np.ndarray, held: object) -> Plan:
         """From the lifted object to the handover point, holding the grasp's `held`."""
 
+    def person_clearance(self, path: list[np.ndarray], held: object, within: float) -> float:
+        """The least clearance (m) of the configurations `path`, holding `held`, to the person
+        as perceived now (inf when none comes within `within`)."""
+
     def follow(self, q: np.ndarray, v: np.ndarray, aim: np.ndarray, held: object) -> Plan:
         """State to state, to hold the object out at `aim` (m, world: `CycleParams.offer` in
         front of the person's hand), or beside it where the person's perceived hand leaves no
@@ -106,8 +110,11 @@ class Fetch:
     """What the robot knows of the object it fetches now: the grasp's `held` (the object as
     the hand holds it, for later plans) and `lift` (played once the fingers hold it), the
     opening they closed on it (`width`, m), where the camera saw it stand (`start`, m, world),
-    when the robot turned to the person with it lifted (`turned`, s) and until when it looks
-    for it before planning its grasp unseen (`seek_until`, s)."""
+    when the robot turned to the person with it lifted (`turned`, s), until when it looks
+    for it before planning its grasp unseen (`seek_until`, s), when the carry under way was
+    last checked against the person (`checked`, s), whether it was stopped short of them, to
+    be planned again (`stopped`), and the way it was carried before (`carried`:
+    configurations, from the lift's end)."""
 
     held: object = None
     lift: Motion | None = None
@@ -115,6 +122,9 @@ class Fetch:
     start: np.ndarray | None = None
     turned: float | None = None
     seek_until: float | None = None
+    checked: float = -math.inf
+    stopped: bool = False
+    carried: tuple[np.ndarray, ...] = ()
 
 
 @dataclasses.dataclass

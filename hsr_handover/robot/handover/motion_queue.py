@@ -74,6 +74,17 @@ class MotionQueue:
         elapsed = min(time - running.start, running.motion.duration)
         return [running.motion.state(t)[0] for t in np.linspace(0.0, elapsed, samples)]
 
+    def still_to_play(self, time: float, step_s: float) -> list[np.ndarray]:
+        """Configurations along the motion under way from `time` to its end, `step_s` apart
+        or closer (none when no motion is under way)."""
+        running = self.running
+        if running is None:
+            return []
+        duration = running.motion.duration
+        elapsed = min(time - running.start, duration)
+        samples = max(2, int(np.ceil((duration - elapsed) / step_s)) + 1)
+        return [running.motion.state(t)[0] for t in np.linspace(elapsed, duration, samples)]
+
     def stand_still(self, q: np.ndarray) -> None:
         """Drop every motion and stand at `q`."""
         self.running, self._queue = None, []

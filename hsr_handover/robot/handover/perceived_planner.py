@@ -23,6 +23,7 @@ from hsr_handover.robot.planning.plan_view import PlanView, palm_path
 from hsr_handover.robot.planning.planner import (
     HANDOVER,
     Held,
+    person_clearance,
     plan_back_off,
     plan_grasp,
     plan_handover,
@@ -131,6 +132,13 @@ class PerceivedPlanner:
                 return self._viewed(dataclasses.replace(plan, receiving=arm.side), watch, person)
             reasons.append(f"{SIDE_NAMES[arm.side]} arm: {plan.reason}")
         return self._viewed(dataclasses.replace(plan, reason="; ".join(reasons)), watch)
+
+    def person_clearance(
+        self, path: Sequence[np.ndarray], held: Held | None, within: float
+    ) -> float:
+        """The least clearance (m) of the configurations `path`, holding `held`, to the
+        person as perceived now (`planner.person_clearance`); inf beyond `within`."""
+        return person_clearance(self._planning(Stopwatch()), path, held, within)
 
     def follow(self, q: np.ndarray, v: np.ndarray, aim: np.ndarray, held: Held | None) -> Plan:
         """A state-to-state move (ruckig) holding the object out at `aim` (m, world), or, where

@@ -66,7 +66,8 @@ class PuttingBack:
         if asked is None or asked == self.record.target or self.record.first_target is not None:
             return False
         self.record.first_target, self.record.corrected_time = self.record.target, p.time
-        self._putting = PutBack(asked, self._motions.played_so_far("carry", p.time), p.time)
+        came = [*self._fetch.carried, *self._motions.played_so_far("carry", p.time)]
+        self._putting = PutBack(asked, came, p.time)
         self._hold_still(p)
         self._enter(Phase.PUT_BACK, p.time)
         return True

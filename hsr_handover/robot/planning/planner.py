@@ -39,7 +39,7 @@ from hsr_handover.robot.planning.handover_pose import (
 from hsr_handover.robot.planning.inverse_kinematics import PalmGoal, palm_goal, solve_palm_ik
 from hsr_handover.robot.planning.paths import RETRY, search_path
 from hsr_handover.robot.planning.plan import Motion, Plan
-from hsr_handover.robot.planning.planning_scene import PERSON, PlanningScene
+from hsr_handover.robot.planning.planning_scene import NEAR, PERSON, PlanningScene
 from hsr_handover.robot.planning.stopwatch import Stopwatch
 from hsr_handover.robot.planning.timing import JointLimits, time_path
 from hsr_handover.robot.planning.trajectory import (
@@ -176,6 +176,21 @@ def plan_handover(
         return _plan_handover(scene, arm_map, person, q_now, limits, ())
     with holding(scene, held, q_now):
         return _plan_handover(scene, arm_map, person, q_now, limits, (held.label,))
+
+
+def person_clearance(
+    scene: PlanningScene,
+    path: Sequence[np.ndarray],
+    held: Held | None = None,
+    within: float = NEAR,
+) -> float:
+    """The least signed distance (m) between the HSR, with the object `held` in the hand, and
+    the person's perceived capsules over the configurations `path` (plant positions); inf when
+    none comes within `within` of them, or the path is empty."""
+    if not len(path):
+        return math.inf
+    with holding(scene, held, path[0]):
+        return min(scene.clearances_at(q, within=within).get(PERSON, math.inf) for q in path)
 
 
 def plan_retreat(

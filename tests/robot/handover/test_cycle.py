@@ -51,7 +51,14 @@ class Planner:
     grasp_failures: int = 0  # grasps that find no way before one does
     back_off_ok: bool = True
     follow_reach: float = np.inf  # m from where the object is held out that a follow reaches
+    in_the_way: list = dataclasses.field(default_factory=list)  # clearances to the person, m
     asked: list = dataclasses.field(default_factory=list)
+    checked: list = dataclasses.field(default_factory=list)  # the paths checked, and within
+
+    def person_clearance(self, path, held, within):
+        """The next of `in_the_way` (inf when none is left), for the path checked."""
+        self.checked.append((path, held, within))
+        return self.in_the_way.pop(0) if self.in_the_way else np.inf
 
     def grasp(self, label, q):
         self.asked.append(("grasp", label))
@@ -650,14 +657,56 @@ def test_fingers_that_hold_again_restart_the_wait_before_judging_them_empty():
     assert world.until(Phase.FAILED).failure is Failure.DROPPED
 
 
-def _carrying() -> World:
+def _carrying(planner: Planner | None = None) -> World:
     """A world whose robot carries the object it lifted (the yellow one) toward the person."""
-    world = _closed_on(0.06)
+    world = _closed_on(0.06, planner)
     world.until(Phase.LIFT)
     world.seen = OBJECT + [0, 0, 0.08]  # it rises with the hand
     world.until(Phase.CARRY)
     world.tick(0.5)  # part way: the carry takes 2 s
     return world
+
+
+def test_a_carry_is_checked_against_the_person_as_it_goes_and_runs_on_while_clear():
+    world = _closed_on(0.06)
+    world.until(Phase.LIFT)
+    world.seen = OBJECT + [0, 0, 0.08]
+    world.until(Phase.CARRY)
+    carried_from = world.q.copy()
+    world.until(Phase.PRESENT)
+    assert [ask[0] for ask in world.planner.asked] == ["grasp", "carry"]
+    # The 2 s carry (set off at the decision after it was planned) checked every 0.5 s: what
+    # is still to go, from where the robot is.
+    checks = world.planner.checked
+    assert len(checks) == 4
+    for path, held, within in checks:
+        assert held == "the grasp" and within == PARAMS.carry_clear
+        np.testing.assert_allclose(path[-1], carried_from + 1)  # to the carry's end
+    np.testing.assert_allclose(checks[0][0][0], carried_from + 0.2)  # 0.4 s of 2 s along
+    assert len(checks[0][0]) > len(checks[-1][0]) >= 2
+
+
+def test_a_carry_that_would_come_into_the_person_stops_and_is_planned_again_from_there():
+    world = _carrying(Planner(in_the_way=[np.inf, -0.1]))  # in the way at the second check
+    world.tick(0.5)
+    stopped_at = world.q.copy()
+    assert world.machine.record.phase is Phase.CARRY
+    assert np.all((3.3 < stopped_at) & (stopped_at < 3.7))  # half way along the 3 -> 4 carry
+    world.tick()
+    np.testing.assert_allclose(world.q, stopped_at)  # it stood still to plan
+    assert [ask[0] for ask in world.planner.asked] == ["grasp", "carry", "carry"]
+    record = world.until(Phase.PRESENT)
+    assert record.failure is None
+    np.testing.assert_allclose(world.q, stopped_at + 1)  # the second carry, from where it stopped
+
+
+def test_a_carry_stopped_for_the_person_is_put_back_the_whole_way_it_came():
+    world = _carrying(Planner(in_the_way=[-0.1]))  # in the way at the first check
+    world.tick(0.4)  # planned again and part way along
+    world.correction = "red"
+    world.tick(0.2)
+    ask = world.planner.asked[-1]
+    assert ask[0] == "put back" and ask[3] > 16  # both carries' ways
 
 
 def test_a_correction_while_carrying_puts_the_object_back_and_fetches_the_one_asked_for():
