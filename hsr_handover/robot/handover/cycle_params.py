@@ -74,6 +74,13 @@ class CycleParams:
     """m: a hand held out farther than this from the palm is followed; a nearer one is reaching
     for the object, and the robot holds still for it (following a hand that had just closed on
     the object pushed the gripper into it)."""
+    offer_first_s: float = 1.5
+    """s a hand held out farther than `follow_beyond` must stay still, with the object held
+    out, before the robot brings the object to it: time for the person to see the object held
+    still and begin to reach for it where it is (the simulated person takes 0.8 s, a reaction
+    time of 0.5 s among them). A follow begun at once toward a hand at rest on the table set
+    off as the person reached for where the object had been, and a finger met the hand. A hand
+    that moves is reaching, or not yet held out."""
     nudge_s: float = 3.0
     """s a hand may stay still nearer than `follow_beyond` before the robot brings the object to
     it all the same: the person judges it out of their reach (a wrist held out 32 cm off was

@@ -1,7 +1,8 @@
 """Following the person's hand while presenting (paper 3.3: the robot brings the object to
-the receiver's hand). A hand held out beyond `follow_beyond`, or nearer but still for
-`nudge_s`, has the object brought `offer` in front of it; a hand that comes for the object
-while the robot moves toward it stops the arm where it is. Where the object is then held out,
+the receiver's hand). A hand held out beyond `follow_beyond` and still for `offer_first_s`, or
+nearer but still for `nudge_s`, with the object held out, has the object brought `offer` in
+front of it; a hand that comes for the object while the robot moves toward it stops the arm
+where it is. Where the object is then held out,
 beside the hand if the forearm leaves no room in front of it, is the planner's
 (`planning.follow`)."""
 
@@ -45,11 +46,13 @@ class FollowStep(enum.Enum):
 class HandFollower:
     """Decides when to bring the object to the person's hand, and where to aim it.
 
-    Its memory: the hand's last readings, where it came to rest and since when, when it last
-    set off toward the hand and where the hand was then."""
+    Its memory: when the object was first held out (`since`, s: the first decision's time
+    if not given), the hand's last readings, where it came to rest and since when, when it
+    last set off toward the hand and where the hand was then."""
 
-    def __init__(self, params: CycleParams):
+    def __init__(self, params: CycleParams, since: float | None = None):
         self._params = params
+        self._since = since
         self._hand_rest: tuple[np.ndarray, float] | None = None  # (where, since when)
         self._followed_at = -math.inf  # when it last tried to follow the hand
         self._followed_hand: np.ndarray | None = None  # where the hand was, as it was followed
@@ -59,11 +62,14 @@ class HandFollower:
         """This decision's step, with the hand and the palm seen in `p` (neither None);
         `following`: whether the arm is now on its way to the hand."""
         p = self._read(p)
+        self._since = p.time if self._since is None else self._since
         self._note_rest(p)
         if self._coming(p, following):
             return FollowStep.STOP
         distance = float(np.linalg.norm(p.hand - p.palm))
-        if not (distance > self._params.follow_beyond or self._waiting_short(p)):
+        held_out = distance > self._params.follow_beyond
+        if not ((held_out and self._waited(p) >= self._params.offer_first_s)
+                or self._waiting_short(p)):  # fmt: skip
             return FollowStep.STAY
         if p.time - self._followed_at > self._params.follow_every_s:
             return FollowStep.FOLLOW
@@ -107,9 +113,13 @@ class HandFollower:
         toward = (p.palm - followed) / float(np.linalg.norm(followed - p.palm))
         return float((p.hand - followed) @ toward) > self._params.coming
 
+    def _waited(self, p: Percepts) -> float:
+        """s the hand has stayed where it came to rest with the object held out."""
+        return p.time - max(self._hand_rest[1], self._since)
+
     def _waiting_short(self, p: Percepts) -> bool:
         """Whether the hand has waited still for `nudge_s` without coming for an object held
         farther than `offer` from it."""
-        waited = p.time - self._hand_rest[1] > self._params.nudge_s
+        waited = self._waited(p) > self._params.nudge_s
         held_off = self._params.offer + self._params.hand_still
         return waited and float(np.linalg.norm(p.hand - p.palm)) > held_off

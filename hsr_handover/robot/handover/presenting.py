@@ -18,7 +18,7 @@ class Presenting:
         self._enter(Phase.PRESENT, p.time)
         self._seen_at = p.time
         self._take = TakeDetector(p.wrist_force, self._fetch.width, self._params)
-        self._follower = HandFollower(self._params)
+        self._follower = HandFollower(self._params, p.time)
 
     def _present(self, p: Percepts) -> None:
         """Hold the object out and let go once the person holds it (`take`), bringing it to a

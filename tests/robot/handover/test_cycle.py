@@ -155,6 +155,16 @@ def _presenting(planner: Planner | None = None) -> World:
     return world
 
 
+def _followed(world: World, offset) -> None:
+    """The person holds a hand out `offset` (m) from the object and waits: the robot gives them
+    `offer_first_s` to reach for it where it is, then sets off toward the hand."""
+    world.hand = world.palm + offset
+    world.tick(PARAMS.offer_first_s)
+    assert world.planner.asked[-1][0] != "follow"
+    world.tick()
+    assert world.planner.asked[-1][0] == "follow"
+
+
 def test_it_watches_until_a_target_is_recognised():
     world = World()
     record = world.tick(2.0)
@@ -413,9 +423,7 @@ def test_a_tug_felt_at_the_wrist_makes_the_robot_let_go_though_the_arm_does_not_
 
 def test_fingers_closing_soon_after_a_tug_with_the_hand_hidden_is_a_handover_not_a_drop():
     world = _presenting()
-    world.hand = world.palm + [0.0, 0.5, 0.0]  # held out elsewhere: the robot follows it
-    world.tick()
-    assert world.planner.asked[-1][0] == "follow"
+    _followed(world, [0.0, 0.5, 0.0])  # held out elsewhere: the robot follows it
     world.hand = None  # hidden behind the robot's own arm from here on
     world.wrist_force = np.array([0.0, 0.0, -WEIGHT]) + _toward_person(world, 2 * PARAMS.tug)
     world.tick(2 * TICK)  # taken hold of on the way: the arm stops to feel again
@@ -429,10 +437,8 @@ def test_fingers_closing_soon_after_a_tug_with_the_hand_hidden_is_a_handover_not
 
 def test_a_hand_held_out_elsewhere_is_followed():
     world = _presenting()
-    world.hand = world.palm + [0.0, 0.5, 0.0]
-    world.tick()
-    name, goal = world.planner.asked[-1]
-    assert name == "follow"
+    _followed(world, [0.0, 0.5, 0.0])
+    _, goal = world.planner.asked[-1]
     # The object is brought in front of the fingers, not into the wrist.
     np.testing.assert_allclose(goal, world.hand - [0.0, PARAMS.offer, 0.0])
     assert world.machine.command(world.time + 0.25)[0] is not None
@@ -484,9 +490,7 @@ def test_a_hand_that_moves_is_not_followed_however_long_it_takes():
 def test_a_followed_hand_that_comes_for_the_object_stops_the_arm_where_it_is():
     world = _presenting()
     held_out = world.palm + [0.0, 0.5, 0.0]
-    world.hand = held_out
-    world.tick()
-    assert world.planner.asked[-1][0] == "follow"
+    _followed(world, [0.0, 0.5, 0.0])
     world.hand = held_out + [0.01, -PARAMS.coming / 2, 0.0]  # the wrist's keypoint wanders
     world.tick()
     assert world.machine.command(world.time + 0.3)[0] is not None  # still on its way
@@ -504,9 +508,7 @@ def test_a_followed_hand_that_comes_for_the_object_stops_the_arm_where_it_is():
 
 def test_a_tug_while_following_the_hand_stops_the_arm_and_then_it_lets_go():
     world = _presenting()
-    world.hand = world.palm + [0.0, 0.5, 0.0]
-    world.tick()
-    assert world.planner.asked[-1][0] == "follow"
+    _followed(world, [0.0, 0.5, 0.0])
     world.pull = 0.02  # taken hold of on the way
     world.tick()
     assert world.machine.record.phase is Phase.PRESENT
@@ -627,8 +629,7 @@ def test_a_copy_presenting_feels_and_moves_on_its_own():
     """A copy made while presenting keeps its own memory of tugs and of the arm's motions: the
     original feeling a tug and stopping leaves the copy following the hand."""
     world = _presenting()
-    world.hand = world.palm + [0.0, 0.5, 0.0]
-    world.tick()  # it sets off toward the hand
+    _followed(world, [0.0, 0.5, 0.0])  # it sets off toward the hand
     clone = copy.deepcopy(world.machine)
     world.wrist_force = np.array([0.0, 0.0, -WEIGHT]) + _toward_person(world, 10.0)
     world.tick(3 * TICK)  # a tug felt twice stops the arm; felt again standing, it lets go

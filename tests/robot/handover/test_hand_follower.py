@@ -30,8 +30,22 @@ def _still(hand: np.ndarray, seconds: float) -> list[np.ndarray]:
     return [hand] * round(seconds / TICK)
 
 
-def test_a_hand_held_out_60_cm_off_is_followed_at_once():
-    assert _steps(HandFollower(CycleParams()), [PALM + 0.6 * AWAY]) == [FollowStep.FOLLOW]
+def test_a_hand_held_out_60_cm_off_is_followed_once_still_for_1_5_s_with_the_object_out():
+    """Till then the person may yet reach for the object where it is; the hand's rest before
+    the object was held out does not count."""
+    held_out = PALM + 0.6 * AWAY
+    follower = HandFollower(CycleParams(), since=2.0)
+    follower.step(_percepts(0.0, held_out), following=False)  # at rest before it was held out
+    steps = _steps(follower, _still(held_out, 1.6), start=2.0)
+    assert FollowStep.FOLLOW not in steps[: round(1.5 / TICK)]
+    assert steps[-1] is FollowStep.FOLLOW
+
+
+def test_a_hand_60_cm_off_that_keeps_moving_is_never_followed():
+    """It is reaching for the object (or not yet held out)."""
+    reaching = [PALM + (0.9 - 0.05 * k) * AWAY for k in range(6)]
+    reaching += [PALM + 0.6 * AWAY + [0.0, 0.05 * k, 0.0] for k in range(40)]
+    assert FollowStep.FOLLOW not in _steps(HandFollower(CycleParams()), reaching)
 
 
 def test_a_hand_30_cm_off_may_be_reaching_and_is_not_followed_at_once():
@@ -43,8 +57,8 @@ def test_the_object_is_aimed_20_cm_in_front_of_the_hand():
     hand."""
     hand = PALM + [0.3, 0.4, 0.0]  # 50 cm off
     follower = HandFollower(CycleParams())
-    assert _steps(follower, [hand]) == [FollowStep.FOLLOW]
-    aims = follower.aims(_percepts(0.0, hand))
+    assert _steps(follower, _still(hand, 1.6))[-1] is FollowStep.FOLLOW
+    aims = follower.aims(_percepts(1.6, hand))
     np.testing.assert_allclose(aims, [hand + 0.2 * (PALM - hand) / 0.5])  # the aim alone:
     # held out this far, the person may yet reach for the object where it is.
 
@@ -89,8 +103,9 @@ def test_a_hand_that_keeps_coming_is_never_followed():
 
 def test_a_hand_followed_is_followed_again_after_a_second_not_sooner():
     """A hand out of reach fails each try: it is tried once a second."""
-    follower = HandFollower(CycleParams())
+    follower = HandFollower(CycleParams(), since=-2.0)
     hand = PALM + 0.6 * AWAY
+    follower.step(_percepts(-2.0, hand), following=False)
     follower.aims(_percepts(0.0, hand))
     assert _steps(follower, [hand], start=0.5) == [FollowStep.STAY]
     assert _steps(follower, [hand], start=1.5) == [FollowStep.FOLLOW]
@@ -122,7 +137,7 @@ def test_a_wrist_read_40_cm_off_for_one_decision_does_not_stop_a_follow():
     follower = HandFollower(CycleParams())
     hand = PALM + 0.6 * AWAY
     other_hand = PALM + 0.2 * AWAY + [0.0, 0.3, 0.0]
-    assert _steps(follower, [hand, hand]) == [FollowStep.FOLLOW] * 2
+    assert _steps(follower, _still(hand, 1.6), start=-1.6)[-1] is FollowStep.FOLLOW
     follower.aims(_percepts(TICK, hand))
     swapped = follower.step(_percepts(2 * TICK, other_hand), following=True)
     assert swapped is not FollowStep.STOP
