@@ -2,9 +2,8 @@
 the receiver's hand). A hand held out beyond `follow_beyond` and still for `offer_first_s`, or
 nearer but still for `nudge_s`, with the object held out, has the object brought `offer` in
 front of it; a hand that comes for the object while the robot moves toward it stops the arm
-where it is. Where the object is then held out,
-beside the hand if the forearm leaves no room in front of it, is the planner's
-(`planning.follow`)."""
+where it is. Where the object is then held out, beside the hand if the forearm leaves no room
+in front of it, is the planner's (`planning.follow`)."""
 
 from __future__ import annotations
 
