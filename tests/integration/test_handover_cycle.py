@@ -38,7 +38,11 @@ def test_the_box_ends_in_the_persons_hand_not_on_the_table(demo):
     box = plant.GetBodyByName("yellow_box").EvalPoseInWorld(context).translation()
     hand = plant.GetBodyByName("r_hand").EvalPoseInWorld(context).translation()
     assert np.linalg.norm(box - hand) < 0.3  # held at the fingertips, the body frame at the wrist
-    assert box[2] > scenario.table.height + 0.1  # held up, not put down or dropped
+    # Held up, not put down or dropped: over the table, or drawn in past its edge (a box taken
+    # low, from below, ends in a seated person's lap).
+    table = scenario.table
+    beside = np.any(np.abs(box[:2] - table.center) > np.array(table.size) / 2 + 0.05)
+    assert box[2] > 0.5 and (beside or box[2] > table.height + 0.1), box
     for other in ("red_cup", "blue_cup"):  # the others stay where they stood
         moved = plant.GetBodyByName(other).EvalPoseInWorld(context).translation()
         start = next(o for o in scenario.objects if o.name == other).position
@@ -75,7 +79,9 @@ def test_its_planned_motions_come_out_as_the_hsrs_controllers_take_them(demo):
     assert names[names.index("move") :][:4] == ["move", "approach", "lift", "carry"]
     starts = [trajectory.start for trajectory in commanded]
     assert starts == sorted(starts)
-    by_name = {trajectory.name: trajectory for trajectory in commanded}
+    by_name = {}  # the first of each name: a carry stopped for the person is planned again
+    for trajectory in commanded:
+        by_name.setdefault(trajectory.name, trajectory)
     # The approach phase sets off with the move to the pre-grasp; the carry is its own.
     assert by_name["move"].start == pytest.approx(phases["approach"], abs=0.2)
     assert by_name["carry"].start == pytest.approx(phases["carry"], abs=0.2)
