@@ -68,22 +68,26 @@ class MotionQueue:
     def played_so_far(self, name: str, time: float, samples: int = 16) -> list[np.ndarray]:
         """Configurations along the motion `name` under way, from its start to `time` (none
         when no motion of that name is under way)."""
-        running = self.running
-        if running is None or running.name != name:
+        if self.running is None or self.running.name != name:
             return []
-        elapsed = min(time - running.start, running.motion.duration)
-        return [running.motion.state(t)[0] for t in np.linspace(0.0, elapsed, samples)]
+        return self._along(0.0, time - self.running.start, samples)
 
     def still_to_play(self, time: float, step_s: float) -> list[np.ndarray]:
         """Configurations along the motion under way from `time` to its end, `step_s` apart
         or closer (none when no motion is under way)."""
-        running = self.running
-        if running is None:
+        if self.running is None:
             return []
-        duration = running.motion.duration
-        elapsed = min(time - running.start, duration)
+        duration = self.running.motion.duration
+        elapsed = min(time - self.running.start, duration)
         samples = max(2, int(np.ceil((duration - elapsed) / step_s)) + 1)
-        return [running.motion.state(t)[0] for t in np.linspace(elapsed, duration, samples)]
+        return self._along(elapsed, duration, samples)
+
+    def _along(self, start: float, end: float, samples: int) -> list[np.ndarray]:
+        """`samples` configurations of the motion under way from `start` to `end` (s into it,
+        `end` held to its duration)."""
+        motion = self.running.motion
+        end = min(end, motion.duration)
+        return [motion.state(t)[0] for t in np.linspace(start, end, samples)]
 
     def stand_still(self, q: np.ndarray) -> None:
         """Drop every motion and stand at `q`."""
