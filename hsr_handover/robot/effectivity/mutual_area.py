@@ -43,6 +43,13 @@ def ideal_handover_point(arm: HumanArm, side_turn_deg: float = 0.0) -> np.ndarra
     return arm.shoulder + COMFORT_REACH * arm.reach * (arm.frame @ np.array(local))
 
 
+def within_reach(arm: HumanArm, points: np.ndarray, reach: float | None = None) -> np.ndarray:
+    """Whether each point (n, 3, world) is within `reach` (m; default MOST_REACH of the arm's
+    full reach: near enough to be handed over at) of the arm's shoulder."""
+    reach = MOST_REACH * arm.reach if reach is None else reach
+    return np.linalg.norm(np.reshape(points, (-1, 3)) - arm.shoulder, axis=1) <= reach
+
+
 def handover_aims(arm: HumanArm) -> list[np.ndarray]:
     """The ideal point straight ahead, then turned toward the arm's side by SIDE_TURNS_DEG."""
     return [ideal_handover_point(arm, turn) for turn in SIDE_TURNS_DEG]
@@ -65,9 +72,7 @@ def handover_point(
     `robot_nodes` (n, 3, world). `body` holds capsules with `distance(points)`."""
     mutual = mutual_mask(robot_nodes, person)
     arm = person.arm
-    suitable = mutual & (
-        np.linalg.norm(robot_nodes - arm.shoulder, axis=1) <= MOST_REACH * arm.reach
-    )
+    suitable = mutual & within_reach(arm, robot_nodes)
     if table_height is not None:
         suitable &= robot_nodes[:, 2] >= table_height + ABOVE_TABLE
     for capsule in body:

@@ -37,6 +37,9 @@ SHOULDER_DEPTH = 0.06
 the body (`robot.perception.skeleton`), and the joint is about a deltoid's depth behind it (the
 perceived scene's shoulder capsule has the same radius). Taken at the keypoint, a shoulder can
 sit 11 cm toward the robot, and an object held out at the reach then ends beyond it."""
+LEAN = 0.1
+"""m a person reaches past the arm's length by leaning the trunk toward what they reach for
+(seated reach envelopes with trunk motion run 10-20 cm past those without)."""
 PLAUSIBLE = (0.7, 1.4)  # a perceived segment within these shares of the ratio's length is kept
 RANGES_DEG = np.array([[-40.0, 170.0],  # flexion, 0 hanging, 90 forward level
                        [-30.0, 150.0],  # abduction, 0 hanging, 90 out to the side
@@ -63,6 +66,20 @@ class HumanArm:
     def reach(self) -> float:
         """The longest reach (m) from the shoulder: the arm straight."""
         return self.upper + self.forearm + self.hand
+
+    @property
+    def body_reach(self) -> float:
+        """The longest reach (m) the body's proportions give (Drillis and Contini 1966), for
+        the height the hand's length was taken from (`perceived_arm`): one frame's elbow and
+        wrist can make the perceived arm a fifth shorter than it is."""
+        height = self.hand / (PALM_SHARE * HAND_PER_HEIGHT)
+        return (UPPER_ARM_PER_HEIGHT + FOREARM_PER_HEIGHT) * height + self.hand
+
+    @property
+    def leaning_reach(self) -> float:
+        """The farthest (m) from the shoulder the person may reach for something held out
+        to them: the longer of `reach` and `body_reach`, leaning (LEAN)."""
+        return max(self.reach, self.body_reach) + LEAN
 
 
 def _rot(axis: int, angle: np.ndarray) -> np.ndarray:

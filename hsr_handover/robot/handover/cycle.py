@@ -1,8 +1,8 @@
 """The perceiving-acting cycle as a plain state machine (paper 3.3): watch, recognise
 the request, plan, approach, grasp, lift, carry to the handover point (checked on the way
 against the person as seen now, and planned again from where it stops if they have moved into
-it), wait for the person's hand, release when the person holds the object, retreat. Failures
-end it with a reason.
+it; presented where it is once it stops within their reach, `offer_watch`), wait for the person's
+hand, release when the person holds the object, retreat. Failures end it with a reason.
 
 It decides from percepts only (`Percepts`: the joint sensors, the gripper's measured opening,
 the intent estimator's target, the object as the camera sees it, the person's hand from the
@@ -36,6 +36,7 @@ from hsr_handover.robot.handover.cycle_types import (
 )
 from hsr_handover.robot.handover.hand_follower import HandFollower
 from hsr_handover.robot.handover.motion_queue import MotionQueue
+from hsr_handover.robot.handover.offer_watch import OfferWatch
 from hsr_handover.robot.handover.presenting import Presenting
 from hsr_handover.robot.handover.put_back import PutBack, PuttingBack
 from hsr_handover.robot.handover.take import TakeDetector
@@ -77,6 +78,7 @@ class HandoverCycle(PuttingBack, Presenting):
         self._seen_at = 0.0  # when the person was last seen, presenting
         self._take = TakeDetector(None, math.inf, params)  # made afresh as it presents
         self._follower = HandFollower(params)  # made afresh as it presents
+        self._offer_watch = OfferWatch(params)  # made afresh as it sets off with an object
 
     def __deepcopy__(self, memo: dict) -> HandoverCycle:
         clone = copy.copy(self)
@@ -85,6 +87,7 @@ class HandoverCycle(PuttingBack, Presenting):
         clone._fetch = copy.copy(self._fetch)
         clone._take = copy.copy(self._take)
         clone._follower = copy.copy(self._follower)
+        clone._offer_watch = copy.copy(self._offer_watch)
         return clone
 
     # What to do now -------------------------------------------------------------------------
@@ -211,6 +214,8 @@ class HandoverCycle(PuttingBack, Presenting):
         no way: `_plan`)."""
         planned = self._plan(self.planner.carry(p.q, self._fetch.held), p, holding=True)
         if planned is not None:
+            if self.record.phase is Phase.LIFT:
+                self._offer_watch = OfferWatch(self._params)
             self.record.receiving = planned.receiving
             self._fetch.stopped, self._fetch.checked = False, p.time
             self._enter(Phase.CARRY, p.time)
@@ -225,12 +230,23 @@ class HandoverCycle(PuttingBack, Presenting):
             return
         if self._corrected(p):
             return
+        if self._offered(p):
+            self._hold_still(p)
+            self._start_presenting(p)
+            return
         if self._moving(p.time):
             self._check_way(p)
         elif not self._fetch.stopped:
             self._start_presenting(p)
         elif p.time >= self._retry_at:
             self._plan_carry(p)
+
+    def _offered(self, p: Percepts) -> bool:
+        """Whether the carry, stopped or crawling, holds the object out within the person's
+        reach: the person may reach for it there, and going on would meet the hand."""
+        if p.palm is None or not self._offer_watch.held_out(p.time, p.palm):
+            return False
+        return self.planner.person_reaches(p.palm)
 
     def _check_way(self, p: Percepts) -> None:
         """Every `recheck_s`, the carry still to go against the person as seen now: one that

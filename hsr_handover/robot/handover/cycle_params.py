@@ -60,6 +60,12 @@ class CycleParams:
     person at rest moves a centimetre or two between frames: a carry, planned
     `trajectory.COLLISION_BOUND` clear of the capsules as they were, checked at zero stopped
     four more times for that alone (0.2 to 1.9 cm in)."""
+    still_speed: float = 0.05
+    """m/s: a palm slower than this holds the object still, as a person sees it: people reach
+    for an object that has come to rest in front of them (`offer_watch`)."""
+    offered_s: float = 0.3
+    """s the palm must stay still, carrying, for the object to look held out: a carry stopped
+    to be planned again, or crawling, within the person's reach is presented where it is."""
 
     # Following the person's hand while presenting -------------------------------------------
 

@@ -84,6 +84,9 @@ class CyclePlanner(Protocol):
         """The least clearance (m) of the configurations `path`, holding `held`, to the person
         as perceived now (inf when none comes within `within`)."""
 
+    def person_reaches(self, point: np.ndarray) -> bool:
+        """Whether the person, as perceived now, may reach for `point` (m, world)."""
+
     def follow(self, q: np.ndarray, v: np.ndarray, aim: np.ndarray, held: object) -> Plan:
         """State to state, to hold the object out at `aim` (m, world: `CycleParams.offer` in
         front of the person's hand), or beside it where the person's perceived hand leaves no

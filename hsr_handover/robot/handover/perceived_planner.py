@@ -13,6 +13,7 @@ from pydrake.math import RigidTransform
 
 from hsr_handover.hsr import PALM_FRAME
 from hsr_handover.robot.effectivity.arm_map import ArmEffectivity
+from hsr_handover.robot.effectivity.mutual_area import within_reach
 from hsr_handover.robot.effectivity.person_map import HumanArm, PersonEffectivity
 from hsr_handover.robot.planning.follow import plan_follow
 from hsr_handover.robot.planning.grasps import PAD_OFFSET
@@ -139,6 +140,13 @@ class PerceivedPlanner:
         """The least clearance (m) of the configurations `path`, holding `held`, to the
         person as perceived now (`planner.person_clearance`); inf beyond `within`."""
         return person_clearance(self._planning(Stopwatch()), path, held, within)
+
+    def person_reaches(self, point: np.ndarray) -> bool:
+        """Whether one of the person's perceived arms may reach for `point` (m, world): within
+        its `leaning_reach`. A person reaches at full stretch, and leans, for what is held out
+        to them (a handover point is chosen nearer, `mutual_area.MOST_REACH`)."""
+        arms = self._percepts[1]
+        return any(bool(within_reach(arm, point, arm.leaning_reach)[0]) for arm in arms)
 
     def follow(self, q: np.ndarray, v: np.ndarray, aim: np.ndarray, held: Held | None) -> Plan:
         """A state-to-state move (ruckig) holding the object out at `aim` (m, world), or, where

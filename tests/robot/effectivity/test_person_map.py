@@ -16,8 +16,10 @@ from hsr_handover.robot.effectivity.mutual_area import (
     handover_aims,
     handover_point,
     ideal_handover_point,
+    within_reach,
 )
 from hsr_handover.robot.effectivity.person_map import (
+    FOREARM_PER_HEIGHT,
     HAND_PER_HEIGHT,
     PALM_SHARE,
     SHOULDER_DEPTH,
@@ -174,3 +176,21 @@ def test_the_body_frame_faces_the_torsos_facing_when_it_is_known():
     for unknown in (None, np.full(3, np.nan), np.array([0.0, 0.0, 1.0])):
         frame = perceived_arm(points, confidence, "r", unknown).frame
         np.testing.assert_allclose(frame, FACING_MINUS_X, atol=1e-12)
+
+
+def test_within_reach_is_most_of_the_arms_reach_from_its_shoulder_unless_told():
+    arm = _arm()
+    ahead = FACING_MINUS_X @ np.array([1.0, 0.0, 0.0])
+    shares = np.array([0.5, 0.99 * MOST_REACH, 1.01 * MOST_REACH, 1.2])
+    points = arm.shoulder + shares[:, None] * arm.reach * ahead
+    np.testing.assert_array_equal(within_reach(arm, points), [True, True, False, False])
+    told = within_reach(arm, points, 1.1 * arm.reach)
+    np.testing.assert_array_equal(told, [True, True, True, False])
+
+
+def test_the_body_reach_is_the_proportions_reach_for_the_height_the_arm_was_sized_by():
+    points, confidence = _skeleton(upper=0.29)  # measured: shorter than a 1.8 m person's
+    arm = perceived_arm(points, confidence, "r", height=1.8)
+    proportions = UPPER_ARM_PER_HEIGHT + FOREARM_PER_HEIGHT + PALM_SHARE * HAND_PER_HEIGHT
+    assert arm.body_reach == pytest.approx(proportions * 1.8)
+    assert arm.reach < arm.body_reach - 0.05

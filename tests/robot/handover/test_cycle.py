@@ -49,9 +49,11 @@ class Planner:
 
     grasp_ok: bool = True
     grasp_failures: int = 0  # grasps that find no way before one does
+    carry_failures: int = 0  # carries planned again that find no way before one does
     back_off_ok: bool = True
     follow_reach: float = np.inf  # m from where the object is held out that a follow reaches
     in_the_way: list = dataclasses.field(default_factory=list)  # clearances to the person, m
+    person_reach: float = 0.0  # m round PALM the person reaches
     asked: list = dataclasses.field(default_factory=list)
     checked: list = dataclasses.field(default_factory=list)  # the paths checked, and within
 
@@ -59,6 +61,9 @@ class Planner:
         """The next of `in_the_way` (inf when none is left), for the path checked."""
         self.checked.append((path, held, within))
         return self.in_the_way.pop(0) if self.in_the_way else np.inf
+
+    def person_reaches(self, point):
+        return bool(np.linalg.norm(point - PALM) <= self.person_reach)
 
     def grasp(self, label, q):
         self.asked.append(("grasp", label))
@@ -70,6 +75,9 @@ class Planner:
 
     def carry(self, q, held):
         self.asked.append(("carry", held))
+        carries = sum(ask[0] == "carry" for ask in self.asked)
+        if 1 < carries <= 1 + self.carry_failures:
+            return _planned(ok=False, reason="no way round the person", seconds=0.2)
         return _planned(
             ok=True, reason="ok", motions=(("carry", Line(q, q + 1, 2.0)),), seconds=0.5
         )
@@ -112,6 +120,7 @@ class World:
         self.opening, self.target, self.seen = 0.1, None, OBJECT.copy()
         self.hand = None
         self.palm = PALM.copy()
+        self.palm_moves = False  # whether the palm follows the joints (else it stays at `palm`)
         self.person, self.pull = np.array([1.7, 0.2, 1.2]), 0.0
         self.face = None
         self.correction = None
@@ -123,6 +132,8 @@ class World:
             self.time = round(self.time + TICK, 9)
             q, _, _ = self.machine.command(self.time)
             self.q = self.q if q is None else q
+            if self.palm_moves:
+                self.palm = PALM + 0.1 * self.q
             percepts = Percepts(self.time, self.q, self.opening, self.target, self.seen,
                                 self.hand, self.palm, self.person, self.pull,
                                 self.wrist_force, self.face, self.correction)  # fmt: skip
@@ -699,6 +710,31 @@ def test_a_carry_that_would_come_into_the_person_stops_and_is_planned_again_from
     record = world.until(Phase.PRESENT)
     assert record.failure is None
     np.testing.assert_allclose(world.q, stopped_at + 1)  # the second carry, from where it stopped
+
+
+def test_a_carry_stopped_within_the_persons_reach_presents_the_object_there():
+    planner = Planner(in_the_way=[np.inf, -0.1], carry_failures=10, person_reach=1.0)
+    world = _carrying(planner)
+    world.palm_moves = True
+    world.tick(0.5)  # stopped for the person, and no new way found yet
+    stopped_at = world.q.copy()
+    world.tick(0.2)
+    assert world.machine.record.phase is Phase.CARRY
+    world.tick(0.2)  # still for 0.3 s: it looks held out, and the person reaches it
+    assert world.machine.record.phase is Phase.PRESENT
+    carries = sum(ask[0] == "carry" for ask in planner.asked)
+    world.tick(1.0)
+    np.testing.assert_allclose(world.q, stopped_at)  # held out where it stopped
+    assert sum(ask[0] == "carry" for ask in planner.asked) == carries  # no carry planned on
+
+
+def test_a_carry_stopped_beyond_the_persons_reach_is_planned_again():
+    planner = Planner(in_the_way=[np.inf, -0.1], carry_failures=10, person_reach=0.1)
+    world = _carrying(planner)
+    world.palm_moves = True  # the palm 0.3 m or more from PALM: beyond the person's reach
+    world.tick(2.0)
+    assert world.machine.record.phase is Phase.CARRY
+    assert sum(ask[0] == "carry" for ask in planner.asked) == 3  # tried again every second
 
 
 def test_a_carry_stopped_for_the_person_is_put_back_the_whole_way_it_came():

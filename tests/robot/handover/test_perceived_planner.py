@@ -133,3 +133,19 @@ def test_a_follow_whose_first_ik_fails_starts_again_from_the_arm_map_before_step
     np.testing.assert_allclose(_base(planner, seed), _base(planner, q))
     end = planned.motions[-1].state(planned.motions[-1].duration)[0]
     np.testing.assert_allclose(planner.palm(end), goal, atol=0.02)
+
+
+def test_the_person_may_reach_for_a_point_within_either_arms_leaning_reach(planner):
+    """An object stopped in front of one shoulder within the arm's full reach, leaning, may be
+    reached for; one beyond it is not, nor anything with no person seen. An arm perceived short
+    (one frame's elbow and wrist) still reaches as far as the body's proportions say."""
+    facing = np.column_stack([[-1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0]])
+    right = HumanArm("r", np.array([1.6, 0.2, 1.3]), facing, 0.32, 0.25, 0.09)
+    left = HumanArm("l", np.array([1.6, -0.2, 1.3]), facing, 0.22, 0.18, 0.09)  # short
+    seeing = planner.perceiving(PerceivedScene(None), (right, left))
+    ahead = np.array([-1.0, 0.0, 0.0])
+    assert seeing.person_reaches(right.shoulder + (right.reach + 0.08) * ahead)
+    assert not seeing.person_reaches(right.shoulder + (right.reach + 0.12) * ahead)
+    assert left.reach < left.body_reach - 0.1
+    assert seeing.person_reaches(left.shoulder + (left.body_reach + 0.08) * ahead)
+    assert not planner.person_reaches(left.shoulder + 0.5 * left.reach * ahead)
