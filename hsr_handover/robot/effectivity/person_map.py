@@ -38,8 +38,9 @@ the body (`robot.perception.skeleton`), and the joint is about a deltoid's depth
 perceived scene's shoulder capsule has the same radius). Taken at the keypoint, a shoulder can
 sit 11 cm toward the robot, and an object held out at the reach then ends beyond it."""
 LEAN = 0.1
-"""m a person reaches past the arm's length by leaning the trunk toward what they reach for
-(seated reach envelopes with trunk motion run 10-20 cm past those without)."""
+"""m a person reaches past the arm's length by leaning the trunk toward what they reach for: a
+modest share of what a seated person's forward lean adds (functional reach tests measure tens
+of centimetres)."""
 PLAUSIBLE = (0.7, 1.4)  # a perceived segment within these shares of the ratio's length is kept
 RANGES_DEG = np.array([[-40.0, 170.0],  # flexion, 0 hanging, 90 forward level
                        [-30.0, 150.0],  # abduction, 0 hanging, 90 out to the side
@@ -71,7 +72,8 @@ class HumanArm:
     def body_reach(self) -> float:
         """The longest reach (m) the body's proportions give (Drillis and Contini 1966), for
         the height the hand's length was taken from (`perceived_arm`): one frame's elbow and
-        wrist can make the perceived arm a fifth shorter than it is."""
+        wrist, lifted onto what lies in front of them, can make the perceived arm a quarter or
+        a third shorter than it is (a forearm held toward the camera)."""
         height = self.hand / (PALM_SHARE * HAND_PER_HEIGHT)
         return (UPPER_ARM_PER_HEIGHT + FOREARM_PER_HEIGHT) * height + self.hand
 
