@@ -1,8 +1,9 @@
 """The perceiving-acting cycle as a plain state machine (paper 3.3): watch, recognise
 the request, plan, approach, grasp, lift, carry to the handover point (checked on the way
 against the person as seen now, and planned again from where it stops if they have moved into
-it; presented where it is once it stops within their reach, `offer_watch`), wait for the person's
-hand, release when the person holds the object, retreat. Failures end it with a reason.
+it; presented where it is once it stops within their reach, `offer_watch`, and carried on if
+no hand comes), wait for the person's hand, release when the person holds the object, retreat.
+Failures end it with a reason.
 
 It decides from percepts only (`Percepts`: the joint sensors, the gripper's measured opening,
 the intent estimator's target, the object as the camera sees it, the person's hand from the
@@ -216,10 +217,14 @@ class HandoverCycle(PuttingBack, Presenting):
         if planned is not None:
             if self.record.phase is Phase.LIFT:
                 self._offer_watch = OfferWatch(self._params)
-            self.record.receiving = planned.receiving
-            self._fetch.stopped, self._fetch.checked = False, p.time
-            self._enter(Phase.CARRY, p.time)
-            self._motions.play(planned.motions)
+            self._set_off(planned, p)
+
+    def _set_off(self, planned: Plan, p: Percepts) -> None:
+        """Carry the object along the `planned` carry, from now."""
+        self.record.receiving = planned.receiving
+        self._fetch.stopped, self._fetch.checked = False, p.time
+        self._enter(Phase.CARRY, p.time)
+        self._motions.play(planned.motions)
 
     def _carry(self, p: Percepts) -> None:
         if p.opening < self._params.held_opening:
@@ -233,6 +238,7 @@ class HandoverCycle(PuttingBack, Presenting):
         if self._offered(p):
             self._hold_still(p)
             self._start_presenting(p)
+            self._fetch.held_out_early = p.time
             return
         if self._moving(p.time):
             self._check_way(p)
@@ -243,8 +249,11 @@ class HandoverCycle(PuttingBack, Presenting):
 
     def _offered(self, p: Percepts) -> bool:
         """Whether the carry, stopped or crawling, holds the object out within the person's
-        reach: the person may reach for it there, and going on would meet the hand."""
+        reach: the person may reach for it there, and going on would meet the hand. Once per
+        object: a presentation no hand came to goes on to the handover point (`presenting`)."""
         if p.palm is None or not self._offer_watch.held_out(p.time, p.palm):
+            return False
+        if self._fetch.held_out_early is not None:
             return False
         return self.planner.person_reaches(p.palm)
 

@@ -66,6 +66,13 @@ class CycleParams:
     offered_s: float = 0.3
     """s the palm must stay still, carrying, for the object to look held out: a carry stopped
     to be planned again, or crawling, within the person's reach is presented where it is."""
+    go_on_s: float = 4.0
+    """s an object so presented waits before the robot carries it on to the handover point,
+    if the person's hand is then seen farther than `reach` from it: a person who reaches for an
+    object held still has taken it by then (0.3 s to see it still, a reaction of 0.5 s, the
+    reach, the hand closing and tugging: 2.5 s), and one judged within a leaning reach may not
+    lean (presented 0.67 m from a seated person's shoulder, a box waited 12 s for a hand that
+    never came). A hand not seen is often at the object, hidden by the robot's own arm."""
 
     # Following the person's hand while presenting -------------------------------------------
 

@@ -37,7 +37,7 @@ class Presenting:
         if p.opening < self._params.held_opening:
             self._empty_fingers(p)
             return
-        if self._given_up(p):
+        if self._given_up(p) or self._going_on(p):
             return
         # A hand near the object is not yet holding it (a hand held out, a person who changes
         # their mind): the robot lets go only when it feels the object taken, above.
@@ -57,6 +57,28 @@ class Presenting:
             self._fail_and_retreat(p, Failure.PERSON_WITHDREW, reason, holding=True)
             return True
         return False
+
+    def _going_on(self, p: Percepts) -> bool:
+        """Whether the robot, having held the object out where a carry stopped or crawled
+        (`cycle._offered`), carries it on to the handover point: `go_on_s` on, the hand is seen,
+        and farther than `reach` from it. Tried once; with no way found it stays presenting."""
+        early = self._fetch.held_out_early
+        if early is None or self._fetch.went_on or p.time - early < self._params.go_on_s:
+            return False
+        if p.hand is None or p.palm is None:
+            return False  # a hand at the object is often hidden by the robot's own arm
+        if np.linalg.norm(p.hand - p.palm) <= self._params.reach:
+            return False
+        if self._moving(p.time):
+            return False
+        self._fetch.went_on = True
+        planned = self.planner.carry(p.q, self._fetch.held)
+        self.record.planning_s += planned.plan_seconds
+        if not planned.ok:
+            return False
+        self.view = self.view.updated(planned.view)
+        self._set_off(planned, p)
+        return True
 
     def _empty_fingers(self, p: Percepts) -> None:
         emptied = self._take.emptied(p, self._fetch.start)

@@ -728,6 +728,42 @@ def test_a_carry_stopped_within_the_persons_reach_presents_the_object_there():
     assert sum(ask[0] == "carry" for ask in planner.asked) == carries  # no carry planned on
 
 
+def _held_out_at_a_stop() -> tuple[World, Planner]:
+    """A world whose carry stopped for the person within their reach and presented there,
+    the person's hand seen resting 0.6 m off, where the arm cannot bring the object."""
+    planner = Planner(in_the_way=[np.inf, -0.1], carry_failures=1, person_reach=1.0,
+                      follow_reach=0.1)  # fmt: skip
+    world = _carrying(planner)
+    world.palm_moves = True
+    world.until(Phase.PRESENT)
+    world.hand = world.palm + [0.6, 0.0, 0.0]
+    return world, planner
+
+
+def test_an_object_held_out_at_a_stop_that_no_hand_comes_to_is_carried_on_once():
+    world, planner = _held_out_at_a_stop()
+    carries = sum(ask[0] == "carry" for ask in planner.asked)
+    world.tick(PARAMS.go_on_s - TICK)
+    assert world.machine.record.phase is Phase.PRESENT
+    world.tick(2 * TICK)
+    assert world.machine.record.phase is Phase.CARRY  # on to the handover point
+    assert sum(ask[0] == "carry" for ask in planner.asked) == carries + 1
+    world.until(Phase.PRESENT)
+    world.tick(2 * PARAMS.go_on_s)
+    assert world.machine.record.phase is Phase.PRESENT  # at the handover point it waits
+    assert sum(ask[0] == "carry" for ask in planner.asked) == carries + 1
+
+
+@pytest.mark.parametrize("hand", [[0.15, 0.0, 0.0], None], ids=["at the object", "unseen"])
+def test_an_object_held_out_at_a_stop_waits_for_a_hand_at_it_or_unseen(hand):
+    world, planner = _held_out_at_a_stop()
+    world.hand = None if hand is None else world.palm + hand
+    carries = sum(ask[0] == "carry" for ask in planner.asked)
+    world.tick(2 * PARAMS.go_on_s)
+    assert world.machine.record.phase is Phase.PRESENT
+    assert sum(ask[0] == "carry" for ask in planner.asked) == carries
+
+
 def test_a_carry_stopped_beyond_the_persons_reach_is_planned_again():
     planner = Planner(in_the_way=[np.inf, -0.1], carry_failures=10, person_reach=0.1)
     world = _carrying(planner)
