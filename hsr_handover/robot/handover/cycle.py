@@ -238,7 +238,7 @@ class HandoverCycle(PuttingBack, Presenting):
         if self._offered(p):
             self._hold_still(p)
             self._start_presenting(p)
-            self._fetch.held_out_early = p.time
+            self._fetch.held_out_early = True
             return
         if self._moving(p.time):
             self._check_way(p)
@@ -251,11 +251,9 @@ class HandoverCycle(PuttingBack, Presenting):
         """Whether the carry, stopped or crawling, holds the object out within the person's
         reach: the person may reach for it there, and going on would meet the hand. Once per
         object: a presentation no hand came to goes on to the handover point (`presenting`)."""
-        if p.palm is None or not self._offer_watch.held_out(p.time, p.palm):
+        if self._fetch.held_out_early or p.palm is None:
             return False
-        if self._fetch.held_out_early is not None:
-            return False
-        return self.planner.person_reaches(p.palm)
+        return self._offer_watch.held_out(p.time, p.palm) and self.planner.person_reaches(p.palm)
 
     def _check_way(self, p: Percepts) -> None:
         """Every `recheck_s`, the carry still to go against the person as seen now: one that

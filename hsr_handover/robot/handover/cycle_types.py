@@ -117,9 +117,9 @@ class Fetch:
     for it before planning its grasp unseen (`seek_until`, s), when the carry under way was
     last checked against the person (`checked`, s), whether it was stopped short of them, to
     be planned again (`stopped`), the way it was carried before (`carried`: configurations,
-    from the lift's end) and when the robot presented it where a carry had stopped or crawled
-    within the person's reach (`held_out_early`, s; None if it has not) and whether it then
-    carried it on to the handover point (`went_on`)."""
+    from the lift's end), whether the robot presented it where a carry had stopped or crawled
+    within the person's reach (`held_out_early`) and whether it then carried it on to the
+    handover point (`went_on`)."""
 
     held: object = None
     lift: Motion | None = None
@@ -130,7 +130,7 @@ class Fetch:
     checked: float = -math.inf
     stopped: bool = False
     carried: tuple[np.ndarray, ...] = ()
-    held_out_early: float | None = None
+    held_out_early: bool = False
     went_on: bool = False
 
 

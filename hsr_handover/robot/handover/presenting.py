@@ -62,8 +62,8 @@ class Presenting:
         """Whether the robot, having held the object out where a carry stopped or crawled
         (`cycle._offered`), carries it on to the handover point: `go_on_s` on, the hand is seen,
         and farther than `reach` from it. Tried once; with no way found it stays presenting."""
-        early = self._fetch.held_out_early
-        if early is None or self._fetch.went_on or p.time - early < self._params.go_on_s:
+        fetch = self._fetch
+        if not fetch.held_out_early or fetch.went_on or p.time - self._since < self._params.go_on_s:
             return False
         if p.hand is None or p.palm is None:
             return False  # a hand at the object is often hidden by the robot's own arm
@@ -71,8 +71,8 @@ class Presenting:
             return False
         if self._moving(p.time):
             return False
-        self._fetch.went_on = True
-        planned = self.planner.carry(p.q, self._fetch.held)
+        fetch.went_on = True
+        planned = self.planner.carry(p.q, fetch.held)
         self.record.planning_s += planned.plan_seconds
         if not planned.ok:
             return False
