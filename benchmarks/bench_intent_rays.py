@@ -13,8 +13,10 @@ baseline in the same run, the ideal one:
   share of the gaze against the recogniser's model of it) and on the lifted skeleton (adding
   the detector and the lifting). Printed as the size (root mean square over trials of the
   per-trial medians, degrees: a bias counts) of each, of the detector's part (lifted minus
-  true), and of the gaze's two parts: the face's heading (eq. 17) and the torso's facing voted
-  over the frames (`SteadyFacing`). The gaze's error is head_gain x the face's minus
+  true), and of the gaze's two parts: the face's heading and the torso's facing voted over
+  the frames (`SteadyFacing`). The face's heading is read from the head's shape in the depth
+  image (`head_pose`, the recogniser's default) and, as the baseline in the same run, from
+  eq. 17 on the lifted keypoints. The gaze's error is head_gain x the face's minus
   (head_gain - 1) x the torso's. And how far the gaze passes above the target's centre
   (mean and sd over trials): what the recogniser's pitch tests read.
 
@@ -56,8 +58,12 @@ from hsr_handover.systems.frame_timing import PROCESSING_DELAY_S
 
 SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "intent_reference.yaml"
 JOINTS = ("shoulder", "elbow", "wrist")
-BEARINGS = ("pointing_true", "pointing_lifted", "gaze_true", "gaze_lifted", "face", "torso",
-            "gaze_pitch_true", "gaze_pitch_lifted")  # fmt: skip
+# The face's direction from the head's shape (the recogniser's default) and, as the baseline
+# in the same run, from eq. 17 on the lifted keypoints.
+FACE_SOURCES = {"": True, "_eq17": False}
+BEARINGS = ("pointing_true", "pointing_lifted", "gaze_true", "torso", "gaze_pitch_true",
+            *(f"{name}{source}" for source in FACE_SOURCES
+              for name in ("gaze_lifted", "face", "gaze_pitch_lifted")))  # fmt: skip
 DETECTORS = ("realistic", "ideal")
 HELD_STRAIGHT_DEG = 165.0  # the true elbow's angle while the gesture is held
 
@@ -72,8 +78,8 @@ class Probe:
 
 
 def _frames(probe: Probe) -> list:
-    """(true keypoints, lifted points, confidences, camera position, the chest's facing) of each
-    frame after onset."""
+    """(true keypoints, lifted points, confidences, camera position, the chest's facing, the
+    face's from the head's shape) of each frame after onset."""
     frames = []
 
     def factory(simulation):
@@ -90,7 +96,7 @@ def _frames(probe: Probe) -> list:
                 skeleton = robot.GetOutputPort("skeleton").Eval(simulation.robot_context(root))
                 camera = detector.GetInputPort("camera_pose").Eval(context).translation()
                 frames.append((truth.copy(), skeleton.points, skeleton.confidence, camera,
-                               skeleton.torso_forward))  # fmt: skip
+                               skeleton.torso_forward, skeleton.face_forward))  # fmt: skip
             return EventStatus.Succeeded()
 
         return monitor
@@ -143,7 +149,7 @@ def _bearing_errors(frames: list, probe: Probe) -> dict:
     everything = np.ones(NUM_KEYPOINTS)
     chest, shoulders = SteadyFacing(), SteadyFacing()  # as IntentTracker votes them
     values = {name: [] for name in BEARINGS}
-    for truth, points, confidence, _, chest_forward in frames:
+    for truth, points, confidence, _, chest_forward, face_forward in frames:
         chest = chest.add(chest_forward)
         if elbow_angle_deg(truth[shoulder], truth[elbow], truth[wrist]) < HELD_STRAIGHT_DEG:
             shoulders = shoulders.add(torso_forward(points, confidence))
@@ -159,17 +165,18 @@ def _bearing_errors(frames: list, probe: Probe) -> dict:
         if confidence[shoulder] > 0 and confidence[wrist] > 0:
             pointing = Ray.through(points[shoulder], points[wrist])
             values["pointing_lifted"].append(_bearing(pointing, probe))
-        face = face_ray(points, confidence, params)
         forward = chest.direction()
         forward = shoulders.direction() if forward is None else forward
-        if face is None:
-            continue
-        gaze = gaze_ray(face, forward, params)
-        values["gaze_lifted"].append(_bearing(gaze, probe))
-        values["gaze_pitch_lifted"].append(_above(gaze, probe))
-        values["face"].append(_turn_deg(true_face.direction, face.direction))
         if forward is not None:
             values["torso"].append(_turn_deg(true_forward, forward))
+        for source, from_shape in FACE_SOURCES.items():
+            face = face_ray(points, confidence, params, face_forward if from_shape else None)
+            if face is None:
+                continue
+            gaze = gaze_ray(face, forward, params)
+            values[f"gaze_lifted{source}"].append(_bearing(gaze, probe))
+            values[f"gaze_pitch_lifted{source}"].append(_above(gaze, probe))
+            values[f"face{source}"].append(_turn_deg(true_face.direction, face.direction))
     return {name: _median(found) for name, found in values.items()}
 
 
@@ -226,18 +233,20 @@ def _print_bearings(rows: dict[str, list[dict]]) -> None:
           "  (face / torso)  gaze above: person / lifted / detector, mean ± sd")  # fmt: skip
     for detector, found in rows.items():
         column = {name: np.array([row[name] for row in found]) for name in BEARINGS}
-        cells = []
-        for ray in ("pointing", "gaze"):
-            person, lifted = column[f"{ray}_true"], column[f"{ray}_lifted"]
-            cells.append(" / ".join(f"{_rms(values):4.1f}"
-                                    for values in (person, lifted, lifted - person)))  # fmt: skip
-        parts = f"({_rms(column['face']):4.1f} / {_rms(column['torso']):4.1f})"
-        person, lifted = column["gaze_pitch_true"], column["gaze_pitch_lifted"]
-        parts += "  pitch " + " / ".join(
-            _mean_sd(values) for values in (person, lifted, lifted - person)
-        )
-        print(f"{detector:10s} {len(found):6d} trials {'':28s}{cells[0]:18s}"
-              f"  {'':17s}{cells[1]:18s}  {parts}")  # fmt: skip
+        for source in FACE_SOURCES:
+            label = detector + (", eq. 17" if source else "")
+            cells = []
+            for ray, suffix in (("pointing", ""), ("gaze", source)):
+                person, lifted = column[f"{ray}_true"], column[f"{ray}_lifted{suffix}"]
+                sizes = (_rms(values) for values in (person, lifted, lifted - person))
+                cells.append(" / ".join(f"{size:4.1f}" for size in sizes))
+            parts = f"({_rms(column['face' + source]):4.1f} / {_rms(column['torso']):4.1f})"
+            person, lifted = column["gaze_pitch_true"], column[f"gaze_pitch_lifted{source}"]
+            parts += "  pitch " + " / ".join(
+                _mean_sd(values) for values in (person, lifted, lifted - person)
+            )
+            print(f"{label:19s} {len(found):6d} trials {'':19s}{cells[0]:18s}"
+                  f"  {'':17s}{cells[1]:18s}  {parts}")  # fmt: skip
 
 
 def _mean_sd(values: np.ndarray) -> str:

@@ -377,7 +377,9 @@ class IntentConfig:
     perception does: an arm straighter than `straight_arm_deg` (eq. 16's elbow angle) whose
     `pointing_ray` ("shoulder_wrist", "elbow_wrist" or "eye_wrist") passes within `d_min` of an
     object, and the eyes' direction (eq. 17's face normal, its turn from the torso's forward
-    direction and its pitch from level, tilted down by `face_tilt_deg`, scaled by `head_gain`)
+    direction and its pitch from level, scaled by `head_gain`; with `face_from_head_shape`
+    the face's direction is read from the head's shape in depth where it is found, else from
+    eq. 17's normal tilted down by `face_tilt_deg`)
     within `gaze_tolerance_deg` horizontally of the same object and no more than
     `gaze_pitch_tolerance_deg` above it (or `gaze_pitch_tolerance_share` of the eyes' look down
     to it, if more), both for `t_max`, over rays averaged across
@@ -403,6 +405,7 @@ class IntentConfig:
     t_max: float = IntentParams.t_max
     pointing_ray: str = IntentParams.pointing_ray
     head_gain: float = IntentParams.head_gain
+    face_from_head_shape: bool = IntentParams.face_from_head_shape
     face_tilt_deg: float = IntentParams.face_tilt_deg
     smoothing_s: float = IntentParams.smoothing_s
     steady_deg_s: float = IntentParams.steady_deg_s

@@ -21,13 +21,14 @@ from hsr_handover.systems.frame_timing import PROCESSING_DELAY_S
 class PerceivedFrame:
     """What the intent estimator was given for one camera frame: the capture time, the lifted
     skeleton's points (18 x 3) and confidences, the confirmed (label, centre) candidates and
-    the chest's facing (3,; NaN: not seen)."""
+    the chest's and the face's facing from the depth image (3,; NaN: not seen)."""
 
     time: float
     points: np.ndarray
     confidence: np.ndarray
     candidates: tuple[tuple[str, np.ndarray], ...]
     torso_forward: np.ndarray = dataclasses.field(default_factory=lambda: np.full(3, np.nan))
+    face_forward: np.ndarray = dataclasses.field(default_factory=lambda: np.full(3, np.nan))
 
 
 class PerceptRecorder:
@@ -59,6 +60,7 @@ class PerceptRecorder:
                     skeleton.confidence,
                     candidates,
                     skeleton.torso_forward,
+                    skeleton.face_forward,
                 )
             )
         return EventStatus.Succeeded()
@@ -69,6 +71,11 @@ def replay_intent(frames: Sequence[PerceivedFrame], params: IntentParams) -> Int
     tracker = IntentTracker(params)
     for frame in frames:
         tracker.update(
-            frame.time, frame.points, frame.confidence, frame.candidates, frame.torso_forward
+            frame.time,
+            frame.points,
+            frame.confidence,
+            frame.candidates,
+            frame.torso_forward,
+            frame.face_forward,
         )
     return tracker.state_

@@ -44,6 +44,11 @@ class CorrectionWatch:
         seen = [(d.label, d.center) for d in detections.detections
                 if d.label in known and np.all(np.isfinite(d.center))]  # fmt: skip
         state = self.tracker.update(
-            time, skeleton.points, skeleton.confidence, seen, skeleton.torso_forward
+            time,
+            skeleton.points,
+            skeleton.confidence,
+            seen,
+            skeleton.torso_forward,
+            skeleton.face_forward,
         )
         return state.correction

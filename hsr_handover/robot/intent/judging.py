@@ -50,11 +50,16 @@ class Observation:
 
 
 def observe(
-    points: np.ndarray, confidence: np.ndarray, centers: np.ndarray, params: IntentParams
+    points: np.ndarray,
+    confidence: np.ndarray,
+    centers: np.ndarray,
+    params: IntentParams,
+    face_forward: np.ndarray | None = None,
 ) -> Observation:
-    """The rays of one lifted COCO-18 skeleton (18 x 3 points, 18 confidences). Of two
-    straight arms, the one whose ray passes nearer an object (`centers`, N x 3) points."""
-    face = face_ray(points, confidence, params)
+    """The rays of one lifted COCO-18 skeleton (18 x 3 points, 18 confidences; `face_forward`
+    the face's direction from the head's shape, see `face_ray`). Of two straight arms, the
+    one whose ray passes nearer an object (`centers`, N x 3) points."""
+    face = face_ray(points, confidence, params, face_forward)
     arms = pointing_rays(points, confidence, params)
     if not arms or len(centers) == 0:
         return Observation(face=face, forward=torso_forward(points, confidence))

@@ -47,9 +47,22 @@ def horizontal(vector: np.ndarray) -> np.ndarray | None:
     return flat / length if length > 1e-9 else None
 
 
-def face_ray(points: np.ndarray, confidence: np.ndarray, params: IntentParams) -> Ray | None:
-    """The face's ray (eq. 17) from the eyes' midpoint, turned down by the face's tilt; None
-    without the nose and both eyes."""
+def face_ray(
+    points: np.ndarray,
+    confidence: np.ndarray,
+    params: IntentParams,
+    forward: np.ndarray | None = None,
+) -> Ray | None:
+    """The face's ray from the eyes' midpoint. Along `forward`, the face's direction read from
+    the head's shape (`perception.head_pose`), when it is given (finite) and
+    `params.face_from_head_shape`: from the nose without the eyes, None without either.
+    Otherwise eq. 17's normal turned down by the face's tilt: None without the nose and both
+    eyes."""
+    if params.face_from_head_shape and forward is not None and np.isfinite(forward).all():
+        for origin in ((R_EYE, L_EYE), (NOSE,)):
+            if seen(points, confidence, origin):
+                return Ray(points[list(origin)].mean(axis=0), np.asarray(forward, dtype=float))
+        return None
     if not seen(points, confidence, (NOSE, R_EYE, L_EYE)):
         return None
     normal = face_normal(points[NOSE], points[R_EYE], points[L_EYE])

@@ -155,10 +155,12 @@ class IntentTracker:
         confidence: np.ndarray,
         candidates: Sequence[tuple[str, np.ndarray]],
         torso_forward: np.ndarray | None = None,
+        face_forward: np.ndarray | None = None,
     ) -> IntentState:
         """Judge the frame captured at `time` (s), its rays smoothed over the recent frames,
-        and advance the dwell. `torso_forward` is the chest's facing in this frame (the
-        skeleton's; None or NaN when not seen). The candidates are every object seen so far,
+        and advance the dwell. `torso_forward` is the chest's facing in this frame and
+        `face_forward` the face's direction from the head's shape (the skeleton's; None or NaN
+        when not seen). The candidates are every object seen so far,
         where last seen: the objects stay on the table while the robot looks at the person
         (a standing person's face and the table do not fit in the camera's view) or, fetching
         one, at where it carries it."""
@@ -172,7 +174,7 @@ class IntentTracker:
         if frame is None:
             centers = np.array([center for _, center in candidates], dtype=float)
             seen = self.steady_forward(
-                observe(points, confidence, centers, self.params), torso_forward
+                observe(points, confidence, centers, self.params, face_forward), torso_forward
             )
             observed = self._smoother.smooth(time, seen)
             frame = judge(observed, candidates, self.params)

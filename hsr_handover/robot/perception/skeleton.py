@@ -28,6 +28,7 @@ from hsr_handover.interface.keypoints import (
 from hsr_handover.interface.pinhole import PinholeCamera, checked_depth, valid_depth
 from hsr_handover.robot.perception.body_check import body_consistent
 from hsr_handover.robot.perception.chest_plane import chest_forward
+from hsr_handover.robot.perception.head_pose import face_forward
 from hsr_handover.robot.perception.torso_depth import torso_shoulder_depths
 
 NO_VALID_DEPTH = "no valid depth"
@@ -57,7 +58,9 @@ class Skeleton:
     in [0, 1], 0 = missing (not detected, or detected without depth to lift it; such a
     keypoint keeps its pixel). `status`: "ok" when any keypoint is present, else why none is.
     `torso_forward` (3,): the horizontal unit vector the chest faces in the world, from its
-    plane in the depth image (`chest_plane`); NaN when the chest was not seen.
+    plane in the depth image (`chest_plane`); NaN when the chest was not seen. `face_forward`
+    (3,): the unit vector the face points along in the world, from the head's shape in the
+    depth image (`head_pose`); NaN when the skull and the nose tip were not found.
     """
 
     pixels: np.ndarray
@@ -65,14 +68,16 @@ class Skeleton:
     confidence: np.ndarray
     status: str = STATUS_OK
     torso_forward: np.ndarray = dataclasses.field(default_factory=lambda: np.full(3, np.nan))
+    face_forward: np.ndarray = dataclasses.field(default_factory=lambda: np.full(3, np.nan))
 
     def __post_init__(self) -> None:
         freeze_keypoint_arrays(self, {"pixels": 2, "points": 3})
-        forward = np.array(self.torso_forward, dtype=float)
-        if forward.shape != (3,):
-            raise ValueError(f"torso_forward: expected 3 values, got shape {forward.shape}")
-        forward.flags.writeable = False
-        object.__setattr__(self, "torso_forward", forward)
+        for name in ("torso_forward", "face_forward"):
+            forward = np.array(getattr(self, name), dtype=float)
+            if forward.shape != (3,):
+                raise ValueError(f"{name}: expected 3 values, got shape {forward.shape}")
+            forward.flags.writeable = False
+            object.__setattr__(self, name, forward)
 
     @classmethod
     def missing(cls, status: str) -> Skeleton:
@@ -145,7 +150,8 @@ def lift_keypoints(
     others. A shoulder hidden behind its arm takes its depth from the torso
     (`torso_shoulder_depths`). A keypoint without valid depth, or still where no body could
     hold it, keeps its pixel but gets confidence 0 and no point. The torso's facing comes from
-    the chest's plane below the detected shoulders (`chest_forward`).
+    the chest's plane below the detected shoulders (`chest_forward`), the face's from the
+    head's shape round the detected face (`face_forward`).
     """
     depth = checked_depth(depth, camera)
     pixels = np.asarray(pixels, dtype=float)
@@ -173,9 +179,16 @@ def lift_keypoints(
     lifted = kept | mended
     points[~lifted] = np.nan
     status = STATUS_OK if lifted.any() else NO_VALID_DEPTH
-    facing = chest_forward(depth, pixels, np.where(detected, confidence, 0.0), camera, X_WC)
-    forward = np.full(3, np.nan) if facing is None else facing
-    return Skeleton(pixels, points, np.where(lifted, confidence, 0.0), status, forward)
+    seen = np.where(detected, confidence, 0.0)
+    chest = chest_forward(depth, pixels, seen, camera, X_WC)
+    face = face_forward(depth, pixels, seen, camera, X_WC)
+    return Skeleton(
+        pixels, points, np.where(lifted, confidence, 0.0), status, _or_nan(chest), _or_nan(face)
+    )
+
+
+def _or_nan(direction: np.ndarray | None) -> np.ndarray:
+    return np.full(3, np.nan) if direction is None else direction
 
 
 def lift_detection(

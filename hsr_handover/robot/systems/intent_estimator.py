@@ -74,7 +74,12 @@ class IntentEstimator(LeafSystem):
         skeleton = self._skeleton.Eval(context)
         candidates = self._candidates(context)
         tracker.update(
-            time, skeleton.points, skeleton.confidence, candidates, skeleton.torso_forward
+            time,
+            skeleton.points,
+            skeleton.confidence,
+            candidates,
+            skeleton.torso_forward,
+            skeleton.face_forward,
         )
 
     def _state(self, context: Context) -> IntentState:
