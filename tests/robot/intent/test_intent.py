@@ -29,8 +29,10 @@ from hsr_handover.robot.intent.judging import (
 from hsr_handover.robot.intent.person_rays import (
     ARMS,
     L_EYE,
+    NOSE,
     R_EYE,
     bearing_errors_deg,
+    face_ray,
     gaze_ray,
     pitch_errors_deg,
     pitch_tolerance_deg,
@@ -73,6 +75,46 @@ def test_face_normal_faces_away_from_the_head_and_tilts_up_by_the_face_tilt():
     pitch_down = math.degrees(-math.asin(level[2]))
     assert pitch_down == pytest.approx(math.degrees(0.2), abs=1.0)  # the head's own pitch
     assert face_normal(nose, nose, nose) is None
+
+
+def test_the_face_is_the_head_shapes_direction_where_it_is_found_and_eq_17_elsewhere():
+    points, confidence = keypoints()
+    eyes = (points[R_EYE] + points[L_EYE]) / 2
+    shape = unit_direction(math.radians(170.0), math.radians(-25.0))
+    params = IntentParams()
+    from_shape = face_ray(points, confidence, params, shape)
+    np.testing.assert_allclose(from_shape.direction, shape)
+    np.testing.assert_allclose(from_shape.origin, eyes)
+    without_eyes = face_ray(points, _without(confidence, "r_eye"), params, shape)
+    np.testing.assert_allclose(without_eyes.origin, points[NOSE])  # eq. 17 would need both
+    eq_17 = face_ray(points, confidence, params)
+    for forward in (None, np.full(3, np.nan)):
+        np.testing.assert_allclose(face_ray(points, confidence, params, forward).direction,
+                                   eq_17.direction)  # fmt: skip
+    paper = IntentParams(face_from_head_shape=False)
+    np.testing.assert_allclose(face_ray(points, confidence, paper, shape).direction,
+                               eq_17.direction)  # fmt: skip
+    assert face_ray(points, _without(confidence, "r_eye", "l_eye", "nose"), params, shape) is None
+
+
+def test_a_frame_judges_the_gaze_along_the_head_shapes_direction():
+    """Eyes read toward the neighbour by eq. 17 ask for the cup the head's shape faces."""
+    label, center = CUPS[0]
+    points, confidence = keypoints(look_at=CUPS[1][1], point_with="right", point_at=center)
+    eyes = (points[R_EYE] + points[L_EYE]) / 2
+    forward = torso_forward(points, confidence, "right")
+    toward = (center - eyes) / np.linalg.norm(center - eyes)
+    # The face makes 1 / head_gain of the eyes' turn from the torso: the head's shape reads it.
+    params = IntentParams()
+    turn = math.atan2(np.cross(forward, toward)[2], forward @ toward) / params.head_gain
+    heading = math.atan2(forward[1], forward[0]) + turn
+    pitch = math.asin(toward[2]) / params.head_gain
+    shape = unit_direction(heading, pitch)
+    centers = np.array([c for _, c in CUPS])
+    assert judge(observe(points, confidence, centers, params, shape), CUPS, params).candidate == (
+        label
+    )
+    assert judge(observe(points, confidence, centers, params), CUPS, params).candidate != label
 
 
 def test_ray_distance_is_perpendicular_ahead_and_to_the_origin_behind():
