@@ -21,6 +21,7 @@ from hsr_handover.interface.openpose_json import (
     to_openpose_dict,
     write_openpose_json,
 )
+from hsr_handover.robot.intent.rays import face_normal
 from hsr_handover.robot.perception.skeleton import (
     NO_VALID_DEPTH,
     Skeleton,
@@ -361,6 +362,22 @@ def test_lifted_pointing_ray_hits_the_target(pointing_scene):
 
     assert angle(centers[target]) < 10.0
     assert all(angle(c) > angle(centers[target]) for n, c in centers.items() if n != target)
+
+
+def test_lifter_reads_the_face_from_the_heads_shape_in_the_rendered_depth(pointing_scene):
+    """The realistic detector's face keypoints, lifted, turn eq. 17 by degrees; the face
+    read from the rendered head's shape is the person's to within a degree or two."""
+    station, inputs, truth = pointing_scene
+    nose, r_eye, l_eye = (truth[keypoint_index(n)] for n in ("nose", "r_eye", "l_eye"))
+    true_face = face_normal(nose, r_eye, l_eye)
+    for seed in range(3):
+        skeleton = _skeleton(station, inputs, DetectorModel(), seed=seed)
+        assert np.isfinite(skeleton.face_forward).all()
+        turn = np.degrees(
+            np.arctan2(skeleton.face_forward[1], skeleton.face_forward[0])
+            - np.arctan2(true_face[1], true_face[0])
+        )
+        assert abs((turn + 180.0) % 360.0 - 180.0) < 2.0
 
 
 def test_lifter_says_why_a_skeleton_is_empty(pointing_scene):
