@@ -50,7 +50,7 @@ class IntentParams:
     head_gain: the eyes' turn over the head's (1 / 0.689, Stiefelhagen and Zhu 2002).
     face_from_head_shape: read the face's direction from the head's shape in the depth image
     (`robot.perception.head_pose`: the skull's centre to the nose tip) where it is found, and
-    from eq. 17's nose-eyes plane elsewhere. Over a gesture it errs 0.6 deg where eq. 17 on
+    from eq. 17's nose-eyes plane elsewhere. Over a gesture it errs 0.55 deg where eq. 17 on
     the realistic detector's lifted keypoints errs 2.4.
     face_tilt_deg: eq. 17's nose-eyes plane faces up by this much when the head faces level
     (the nose tip is below and a little ahead of the eyes: 23 deg on the simulated face's
