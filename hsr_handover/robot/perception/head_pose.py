@@ -48,6 +48,7 @@ import numpy as np
 
 from hsr_handover.interface.coco18 import keypoint_index
 from hsr_handover.interface.pinhole import PinholeCamera, valid_depth
+from hsr_handover.robot.perception.depth_window import window_depths
 
 HEAD_WINDOW_M = 0.17  # radius round the face's keypoints that holds the whole head
 DEPTH_BAND_M = 0.2  # of the face's depth: nearer or farther is not the head
@@ -107,8 +108,8 @@ def _head_points(depth, pixels, confidence, camera, X_WC):
     if NOSE not in face:
         return None
     middle = pixels[face].mean(axis=0)
-    face_depth = _depth_at(depth, pixels[NOSE])
-    if face_depth is None:
+    face_depth = float(window_depths(depth, pixels[NOSE][None], 50.0)[0])
+    if not np.isfinite(face_depth):
         return None
     per_metre = camera.fx / face_depth  # pixels per metre at the face
     reach = HEAD_WINDOW_M * per_metre
@@ -128,14 +129,6 @@ def _head_points(depth, pixels, confidence, camera, X_WC):
         skull_side &= np.hypot(u - pixels[i][0], v - pixels[i][1]) > FACE_CLEAR_M * per_metre
     near_nose = np.hypot(u - pixels[NOSE][0], v - pixels[NOSE][1]) <= NOSE_GATE_M * per_metre
     return points, skull_side, near_nose
-
-
-def _depth_at(depth: np.ndarray, pixel: np.ndarray) -> float | None:
-    """The median valid depth in the 5 x 5 window round `pixel`; None without one."""
-    col, row = (int(round(x)) for x in pixel)
-    window = depth[max(row - 2, 0) : row + 3, max(col - 2, 0) : col + 3]
-    values = window[valid_depth(window)]
-    return float(np.median(values)) if values.size else None
 
 
 def _skull(points: np.ndarray) -> tuple[np.ndarray, float] | None:

@@ -28,6 +28,7 @@ from hsr_handover.interface.keypoints import (
 from hsr_handover.interface.pinhole import PinholeCamera, checked_depth, valid_depth
 from hsr_handover.robot.perception.body_check import body_consistent
 from hsr_handover.robot.perception.chest_plane import chest_forward
+from hsr_handover.robot.perception.depth_window import window_depths
 from hsr_handover.robot.perception.head_pose import face_forward
 from hsr_handover.robot.perception.torso_depth import torso_shoulder_depths
 
@@ -44,9 +45,6 @@ DEPTH_PERCENTILE = 25.0
 # front) is lifted onto that by the near quarter; its own surface is the farther part of the
 # window.
 RELIFT_PERCENTILE = 75.0
-# Half-size of the depth window a keypoint is lifted from: the window survives a pixel
-# that slips off a limb's edge onto the background or a depth hole.
-DEPTH_WINDOW_HALF = 2
 
 
 @dataclasses.dataclass(frozen=True)
@@ -112,27 +110,6 @@ class Keypoint(NamedTuple):
     confidence: float
 
 
-def _pixel_indices(pixels: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Column and row of the pixel nearest each (u, v); callers pass in-image pixels."""
-    return np.rint(pixels[:, 0]).astype(int), np.rint(pixels[:, 1]).astype(int)
-
-
-def window_depths(
-    depth: np.ndarray, pixels: np.ndarray, percentile: float = DEPTH_PERCENTILE
-) -> np.ndarray:
-    """The `percentile` of the valid depths in the 5 x 5 window around each in-image pixel
-    (N, 2); NaN where the window holds no valid depth."""
-    u, v = _pixel_indices(pixels)
-    result = np.full(len(pixels), np.nan)
-    h = DEPTH_WINDOW_HALF
-    for i, (col, row) in enumerate(zip(u, v, strict=True)):
-        window = depth[max(row - h, 0) : row + h + 1, max(col - h, 0) : col + h + 1]
-        values = window[valid_depth(window)]
-        if values.size:
-            result[i] = np.percentile(values, percentile)
-    return result
-
-
 def lift_keypoints(
     pixels: np.ndarray,
     confidence: np.ndarray,
@@ -162,7 +139,7 @@ def lift_keypoints(
         return Skeleton.missing(NONE_DETECTED)
     pixels = np.where(detected[:, None], pixels, np.nan)
     surface_depth = np.full(NUM_KEYPOINTS, np.nan)
-    surface_depth[detected] = window_depths(depth, pixels[detected])
+    surface_depth[detected] = window_depths(depth, pixels[detected], DEPTH_PERCENTILE)
     points = no_keypoints(3)
     lifted = np.isfinite(surface_depth)
     points[lifted] = camera.deproject(pixels[lifted], surface_depth[lifted], X_WC)
