@@ -8,10 +8,11 @@ import dataclasses
 import json
 import sys
 
+import numpy as np
 import pytest
 
 from hsr_handover.cli import main
-from hsr_handover.experiments.arm_aim import arm_aim
+from hsr_handover.experiments.arm_aim import arm_aim, most_likely_asked
 from hsr_handover.experiments.experiment import replay_name
 from hsr_handover.experiments.intent.percepts import replay_intent
 from hsr_handover.experiments.intent.report import plot, summary_lines, write_csv
@@ -212,6 +213,7 @@ def test_an_exact_persons_arm_points_at_the_target_and_a_distractors_at_nothing(
     for trial in requests:
         aim = arm_aim(trial.scenario)
         assert aim.nearest == trial.target and aim.error_deg < 1e-3
+        assert aim.most_likely == trial.target
     assert arm_aim(distractor.scenario) is None
 
 
@@ -234,3 +236,40 @@ def test_the_arms_error_is_the_drawn_one_and_misaimed_requests_are_counted(base)
     assert arm["misaimed_recognised"] == read_right
     assert arm["breuer"]["targets_found"] == pytest.approx(0.866)
     assert "Breuer et al.: 86.6 %" in "\n".join(summary_lines(summary))
+
+
+def test_the_face_chooses_between_objects_the_arm_points_between():
+    person = ImprecisionConfig(7.3, 0.689, 0.08)
+    yaws = np.radians([10.0, 30.0])
+    between = np.array([6.0, 6.0])  # the arm as far from each
+    for asked in (0, 1):
+        assert most_likely_asked(between, 0.689 * yaws[asked], yaws, person) == asked
+    # Two objects 6 degrees apart as the face turns, the face turned the usual share toward
+    # the second: 2.5 sd from the first's share. An arm 16 degrees off the second (2.7 sd) and
+    # on the first outweighs it; one 10 degrees off does not.
+    near = np.radians([20.0, 26.0])
+    face = 0.689 * near[1]
+    assert most_likely_asked(np.array([0.0, 16.0]), face, near, person) == 0
+    assert most_likely_asked(np.array([0.0, 10.0]), face, near, person) == 1
+
+
+def test_the_cue_limit_counts_requests_whose_arm_and_face_asked_for_another(base):
+    """At 20 degrees' mean error and a head share spread of 0.3, some gestures together ask
+    for a neighbour; the summary counts them and those read right anyway."""
+    sloppy = copy.deepcopy(base)
+    sloppy.person.imprecision = ImprecisionConfig(20.0, 0.689, 0.3)
+    trials = make_trials(sloppy, 30, 0, seed=5)
+    likely = [arm_aim(trial.scenario).most_likely for trial in trials]
+    astray = [name != trial.target for name, trial in zip(likely, trials, strict=True)]
+    assert 0 < sum(astray) < 30
+    recognised = [trial.target if index % 2 else "" for index, trial in enumerate(trials)]
+    summary = summarise(IntentExperiment(trials, _outcomes(trials, recognised), sloppy, 1, 1.0))
+    limit = summary["cue_limit"]
+    assert limit["success_rate"] == pytest.approx(1 - sum(astray) / 30)
+    assert limit["astray"] == sum(astray)
+    assert limit["astray_recognised"] == sum(a and i % 2 == 1 for i, a in enumerate(astray))
+    seated = limit["by_class"]["posture"]["seated"]
+    assert seated["trials"] == 30 and seated["rate"] == pytest.approx(limit["success_rate"])
+    assert f"of the {sum(astray)} that asked for another object" in "\n".join(
+        summary_lines(summary)
+    )

@@ -32,6 +32,7 @@ CSV_COLUMNS = (
     "planning_s", "execution_s",
     "watch_lift_m", "handed_to", "seed", "person_height_m", "person_x_m", "person_y_m",
     "person_yaw_rad", "person_moved_back_m", "sim_s", "wall_s", "arm_nearest", "arm_error_deg",
+    "cues_most_likely",
     "error",
 )  # fmt: skip
 

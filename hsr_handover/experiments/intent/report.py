@@ -26,6 +26,7 @@ CSV_COLUMNS = (
     "index", "kind", "target", "arm", "recognised", "latency_s", "recognised_time_s",
     "confidence", "seed", "person_height_m", "person_x_m", "person_y_m", "person_yaw_rad",
     "person_moved_back_m", "watch_lift_m", "sim_s", "wall_s", "arm_nearest", "arm_error_deg",
+    "cues_most_likely",
     "error",
 )  # fmt: skip
 
@@ -55,6 +56,10 @@ def rate_rows(summary: dict) -> list[RateRow]:
     paper_all = sum(counted(summary["paper_by_position"][side], paper_n)[0] for side in POSITIONS)
     rows.append(RateRow("recognised, all", counted(summary["success_rate"], summary["trials"]),
                         (paper_all, paper_n * len(POSITIONS))))  # fmt: skip
+    limit = summary.get("cue_limit")
+    if limit:
+        rows.append(RateRow("arm and face most likely asked for the target",
+                            counted(limit["success_rate"], summary["trials"])))  # fmt: skip
     runs = summary.get("distractor_trials_run", summary["distractor_trials"])
     rows.append(RateRow("false triggers", counted(summary["false_trigger_rate"], runs)))
     return rows
@@ -75,6 +80,7 @@ def summary_lines(summary: dict) -> list[str]:
         f"latency from pointing onset: median {format_value(latency['median'], '.2f', ' s')}, "
         f"p95 {format_value(latency['p95'], '.2f', ' s')}",
         _arm_alone_line(summary["arm_alone"]),
+        *_cue_limit_lines(summary["cue_limit"]),
         *_raised_lines(summary.get("watched_raised", 0)),
         *class_lines("requests", summary["by_class"]),
         *class_lines("distractors", summary["false_triggers_by_class"], "false triggers"),
@@ -105,6 +111,18 @@ def _arm_alone_line(arm: dict) -> str:
         f"{degrees(breuer['error_deg_mean'])}); of the {arm['misaimed']} that pointed nearer "
         f"another object, {arm['misaimed_recognised']} were read right"
     )
+
+
+def _cue_limit_lines(limit: dict) -> list[str]:
+    """The most a recogniser of arm and face could read right, overall and by class."""
+    rate = format_value(100 * limit["success_rate"], ".1f", " %")
+    return [
+        f"the person's arm and face together most likely asked for the target in {rate} of "
+        f"requests (the most a recogniser reading both exactly could read right); of the "
+        f"{limit['astray']} that asked for another object, {limit['astray_recognised']} were "
+        "read right",
+        *class_lines("  that limit", limit["by_class"], "target most likely"),
+    ]
 
 
 def plot(summary: dict, path: Path) -> None:

@@ -143,12 +143,28 @@ def _arm_alone(requests: list[dict], success: list[bool]) -> dict:
     }  # fmt: skip
 
 
+def _cue_limit(requests: list[dict], success: list[bool]) -> dict:
+    """How often the person's arm and face together most likely asked for the target (the most
+    a recogniser reading both exactly could read right: `arm_aim.most_likely_asked`), by class
+    too, and of the requests whose arm and face asked for another object (`astray`), how many
+    were read right anyway."""
+    asked = lambda row: row["cues_most_likely"] == row["target"]  # noqa: E731
+    astray = [s for r, s in zip(requests, success, strict=True) if not asked(r)]
+    return {
+        "success_rate": rate(len(requests) - len(astray), len(requests)),
+        "by_class": by_class(requests, asked),
+        "astray": len(astray),
+        "astray_recognised": sum(astray),
+    }
+
+
 def summarise(experiment: IntentExperiment) -> dict:
     """The JSON summary: success overall, by position and by object beside the paper's figures,
     a confusion matrix, the false-trigger rate, latency from pointing onset, failures, how
     often the person's arm alone pointed nearest the target (`arm_alone`, beside Breuer et
     al.'s figures; `misaimed_recognised`: of the requests whose arm pointed nearer another
-    object, those the robot still read right), and the person model and settings the trials
+    object, those the robot still read right), the most a recogniser of the arm and the face
+    could read right (`cue_limit`), and the person model and settings the trials
     ran with. A failed request counts as not recognised; a failed distractor trial is left out
     of the false-trigger rate, which it would otherwise lower (both are listed under
     `failures`)."""
@@ -202,6 +218,7 @@ def summarise(experiment: IntentExperiment) -> dict:
         "failed_trials": len(failures),
         "failures": failures,
         "arm_alone": _arm_alone(requests, success),
+        "cue_limit": _cue_limit(requests, success),
         "person_model": {
             "imprecision": dataclasses.asdict(experiment.base.person.imprecision),
             "variation": dataclasses.asdict(experiment.base.person.variation),
