@@ -5,6 +5,7 @@ the handover experiment's truth scorer watches it and judges it a clean handover
 from __future__ import annotations
 
 import json
+import math
 
 import numpy as np
 import pytest
@@ -14,6 +15,7 @@ from hsr_handover.experiments.handover.trials import HandoverTrial
 from hsr_handover.interface.joint_trajectory import ARM_CONTROLLER
 from hsr_handover.recording.trajectory_json import trajectories_json
 from hsr_handover.robot.handover.cycle_types import Phase
+from hsr_handover.robot.planning.upright import BOX_TILT, SLACK
 from hsr_handover.simulation import AFTER_CYCLE_S, CHUNK_S
 from hsr_handover.world.person.receiving import DRAW_IN_S, TUG_S
 
@@ -36,8 +38,11 @@ def test_the_box_ends_in_the_persons_hand_not_on_the_table(demo):
     plant = report.simulation.station.plant
     context = plant.GetMyContextFromRoot(report.context)
     box = plant.GetBodyByName("yellow_box").EvalPoseInWorld(context).translation()
-    hand = plant.GetBodyByName("r_hand").EvalPoseInWorld(context).translation()
-    assert np.linalg.norm(box - hand) < 0.3  # held at the fingertips, the body frame at the wrist
+    # Taken with the hand whose shoulder is nearer (the person takes with either hand), held at
+    # the fingertips, the hand's body frame at the wrist.
+    hands = [plant.GetBodyByName(f"{side}_hand").EvalPoseInWorld(context).translation()
+             for side in "rl"]  # fmt: skip
+    assert min(np.linalg.norm(box - hand) for hand in hands) < 0.3
     # Held up, not put down or dropped: over the table, or drawn in past its edge (a box taken
     # low, from below, ends in a seated person's lap).
     table = scenario.table
@@ -66,7 +71,10 @@ def test_the_truth_judges_it_a_clean_handover(demo):
     names = {obj.color: obj.name for obj in scenario.objects}
     row = judge(trial, report.cycle, score, report.person_holds, names)
     assert row["handed_over"] and row["retrieved"] and row["failure"] == "", row
-    assert 0.0 < score.held_tilt < 100.0 and not row["spilled"]  # a box: at most on its side
+    # A box may be carried on its side: the planner's bound, its slack on the way, and the
+    # box's turn in the fingers (a degree or two).
+    most = math.degrees(BOX_TILT + SLACK) + 3.0
+    assert 0.0 < score.held_tilt < most and not row["spilled"]
     assert 0 < row["recognition_s"] < 3 and 10 < row["execution_s"] < 25
 
 
