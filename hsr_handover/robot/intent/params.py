@@ -65,10 +65,14 @@ class IntentParams:
     toward a cup while the eyes look 11-12 degrees above it.
     steady_deg_s: the pointing ray counts only while it turns slower than this (deg/s) over
     that window: a gesture is read in its hold, not while the arm sweeps toward the target.
+    The detector's error reads as turning too: with it doubled, a held arm's ray turns
+    30-45 deg/s between the window's halves now and then, and a stricter bound broke holds.
     bent_gap_s: how long (s) a pointing arm may read bent, or go unseen, before its gesture
     ends; meanwhile its frames are judged with the rays it showed in the last `smoothing_s`
     (an arm pointing across the body or at the camera is foreshortened, and its lifted elbow
-    lands on the forearm: the elbow angle of a held arm flickers between 100 and 170 deg).
+    lands on the forearm: the elbow angle of a held arm flickers between 100 and 170 deg;
+    with the detector's error doubled, an elbow 4 cm off turns the angle by 15-20 deg and a
+    held arm reads bent for runs of several frames).
     correction_gaze_tolerance_deg: `gaze_tolerance_deg` for a correction (see
     `IntentTracker`): the object first recognised is left out, and with it the neighbour the
     person's gaze was confused with; the same person's gaze misses the same way again (a head
@@ -102,8 +106,8 @@ class IntentParams:
     face_tilt_deg: float = 30.0
     smoothing_s: float = 1.0
     pitch_smoothing_s: float = 1.5
-    steady_deg_s: float = 30.0
-    bent_gap_s: float = 0.2
+    steady_deg_s: float = 45.0
+    bent_gap_s: float = 0.5
     correction_gaze_tolerance_deg: float = 24.0
     correction_below_deg: float = 10.0
     correction_rise_m: float = 0.08
