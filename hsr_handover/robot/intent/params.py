@@ -70,9 +70,10 @@ class IntentParams:
     bent_gap_s: how long (s) a pointing arm may read bent, or go unseen, before its gesture
     ends; meanwhile its frames are judged with the rays it showed in the last `smoothing_s`
     (an arm pointing across the body or at the camera is foreshortened, and its lifted elbow
-    lands on the forearm: the elbow angle of a held arm flickers between 100 and 170 deg;
-    with the detector's error doubled, an elbow 4 cm off turns the angle by 15-20 deg and a
-    held arm reads bent for runs of several frames).
+    lands on the forearm: the elbow angle of a held arm flickers between 100 and 170 deg).
+    With the detector's error doubled a held arm reads bent for runs of frames, and 0.5 s read
+    more requests, but it bridged an arm held out to receive into a gesture that never ended,
+    and a person's correction went unseen.
     correction_gaze_tolerance_deg: `gaze_tolerance_deg` for a correction (see
     `IntentTracker`): the object first recognised is left out, and with it the neighbour the
     person's gaze was confused with; the same person's gaze misses the same way again (a head
@@ -107,7 +108,7 @@ class IntentParams:
     smoothing_s: float = 1.0
     pitch_smoothing_s: float = 1.5
     steady_deg_s: float = 45.0
-    bent_gap_s: float = 0.5
+    bent_gap_s: float = 0.2
     correction_gaze_tolerance_deg: float = 24.0
     correction_below_deg: float = 10.0
     correction_rise_m: float = 0.08
