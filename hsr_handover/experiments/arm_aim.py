@@ -19,6 +19,7 @@ from hsr_handover.robot.intent.rays import angle_deg
 from hsr_handover.scenario import ImprecisionConfig, Scenario, object_center
 from hsr_handover.world.person.behavior import aim_head, rest_posture, target_posture
 from hsr_handover.world.person.body import PERSON_JOINTS, BodyDimensions
+from hsr_handover.world.person.imprecision import pointing_sigma_deg
 from hsr_handover.world.station.world import person_actions, person_pose
 
 NECK_YAW = PERSON_JOINTS.index("neck_yaw")
@@ -46,12 +47,12 @@ def most_likely_asked(
     """The index of the object most likely asked for, given the arm's angle from each object
     (deg, at the shoulder) and the face's yaw and each object's yaw from the head's rest (rad),
     under the person model: the arm misses by an isotropic normal error whose size has mean
-    `pointing_error_deg` (density exp(-a^2 / 2 sigma^2), sigma = mean / sqrt(pi / 2)); the
+    `pointing_error_deg` (density exp(-a^2 / 2 sigma^2), sigma `pointing_sigma_deg`); the
     head turns a share of the gaze shift drawn from N(`head_turn_fraction`,
     `head_turn_fraction_sd`), so the face's yaw toward an object at yaw y is normal about
     share * y with sd share_sd * |y| (and `FACE_READING_SD_DEG`). The most any recogniser that
     reads the arm and the face's turn exactly could do is to choose this object."""
-    pointing_sd = max(imprecision.pointing_error_deg / math.sqrt(math.pi / 2), 1e-3)
+    pointing_sd = max(pointing_sigma_deg(imprecision.pointing_error_deg), 1e-3)
     face_sd = np.hypot(imprecision.head_turn_fraction_sd * np.abs(object_yaws),
                        math.radians(FACE_READING_SD_DEG))  # fmt: skip
     miss = (face_yaw - imprecision.head_turn_fraction * object_yaws) / face_sd

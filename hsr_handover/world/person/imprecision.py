@@ -40,11 +40,16 @@ def draw_head_fraction(rng: np.random.Generator, imprecision: Imprecision) -> fl
     return float(np.clip(fraction, 0.3, 1.0))
 
 
+def pointing_sigma_deg(mean_deg: float) -> float:
+    """The per-axis sd (deg) of a pointing error whose size has mean `mean_deg`: the size of an
+    isotropic 2-D normal error follows a Rayleigh law, whose mean is sigma * sqrt(pi / 2)."""
+    return mean_deg / math.sqrt(math.pi / 2)
+
+
 def draw_pointing_error(rng: np.random.Generator, mean_deg: float) -> np.ndarray:
     """The angular error (rad) of one gesture about two axes perpendicular to the pointing
-    direction: normal with sigma = mean / sqrt(pi / 2), so that its size has mean `mean_deg`."""
-    sigma = math.radians(mean_deg) / math.sqrt(math.pi / 2)
-    return rng.normal(0.0, sigma, 2)
+    direction: normal with `pointing_sigma_deg`, so that its size has mean `mean_deg`."""
+    return rng.normal(0.0, math.radians(pointing_sigma_deg(mean_deg)), 2)
 
 
 def perturb_direction(direction: np.ndarray, error: np.ndarray) -> np.ndarray:
