@@ -52,3 +52,9 @@ def fail_or_exit_or_draw(spec: dict) -> list[float]:
     if spec.get("exit"):
         exit_if_asked(spec)
     return draw(spec)
+
+
+def worker_pid(spec: dict) -> int:
+    """The process that ran this trial."""
+    time.sleep(spec.get("sleep", 0.0))
+    return os.getpid()

@@ -35,6 +35,12 @@ class ClusterUnavailable(RuntimeError):
     """The Ray cluster asked for cannot be used: Ray is not installed, or no cluster answers."""
 
 
+TRIALS_PER_WORKER = 32
+"""Trials a pool of local workers runs per worker before fresh processes take over (one worker
+may run more of them than another, none more than the pool's): each trial's Drake diagrams
+stay alive in the process that built them (about 35 MB a trial, which gc does not free;
+drake#23161 has such a leak), and 330 trials a worker filled a 24 GiB machine."""
+
 CRASHED = "BrokenProcessPool: a worker process died (crash, os._exit, kill) while this trial ran"
 NOT_RUN = "BrokenProcessPool: not run, worker processes died in two pools in a row"
 _MAX_REASON = 200
@@ -164,14 +170,19 @@ def _pool_call(function: Callable[[Any], Any], index: int, spec: Any) -> TrialOu
 def _run_in_pools(
     function: Callable[[Any], Any], specs: list[Any], workers: int, tally: _Tally
 ) -> None:
-    """A pool, then, if a worker died, one fresh pool for the trials that had not started, so
-    one crash does not fail the whole batch; a second death fails what is left."""
-    pending = list(range(len(specs)))
-    for retry in (True, False):
-        lost = _pool_round(function, specs, pending, workers, tally)
-        pending = _settle_lost(lost, tally, retry)
-        if not pending:
+    """Pools of at most TRIALS_PER_WORKER trials a worker, one after another. When a worker
+    died, the trials that had not started run in the next pool, so one crash does not fail the
+    batch; a death in two pools in a row fails what is left."""
+    pending, died = list(range(len(specs))), False
+    while pending:
+        size = workers * TRIALS_PER_WORKER
+        batch, rest = pending[:size], pending[size:]
+        lost = _pool_round(function, specs, batch, workers, tally)
+        if lost and died:
+            _settle_lost({**lost, **dict.fromkeys(rest, 0.0)}, tally, retry=False)
             return
+        pending = _settle_lost(lost, tally, retry=True) + rest
+        died = bool(lost)
 
 
 def _pool_round(
@@ -303,8 +314,9 @@ def _run_on_ray(
 
 def _stream_ray(ray: Any, function: Callable[[Any], Any], specs: list[Any], tally: _Tally) -> None:
     """One task per trial, outcomes recorded as `ray.wait` hands them back."""
-    # One retry of a task whose worker or node died, like the local pool's one fresh pool.
-    remote = ray.remote(max_retries=1)(_call)
+    # One retry of a task whose worker or node died, like the local pool's one fresh pool; a
+    # worker process is replaced after TRIALS_PER_WORKER trials, as locally.
+    remote = ray.remote(max_retries=1, max_calls=TRIALS_PER_WORKER)(_call)
     refs = {remote.remote(function, index, spec): index for index, spec in enumerate(specs)}
     waiting = list(refs)
     try:

@@ -3,6 +3,7 @@ for, the progress callback, and the same trials on a local Ray instance."""
 
 from __future__ import annotations
 
+import collections
 import os
 import select
 import shutil
@@ -15,6 +16,7 @@ from pathlib import Path
 
 import pytest
 
+from hsr_handover.experiments import trials
 from hsr_handover.experiments.trials import (
     CRASHED,
     RAY_MISSING,
@@ -114,6 +116,20 @@ def test_trials_pending_when_a_worker_dies_run_in_a_fresh_pool():
     assert len(collateral) <= 1, [outcome.error for outcome in collateral]
     assert all(outcome.error == CRASHED for outcome in collateral)
     assert all(o.result == o.index for o in others if o.ok)
+
+
+def test_no_worker_process_runs_more_than_a_pools_trials(monkeypatch):
+    """Each trial's Drake diagrams stay alive in its worker: fresh workers take over once a pool
+    has run TRIALS_PER_WORKER trials a worker, and every trial still runs once, in order."""
+    monkeypatch.setattr(trials, "TRIALS_PER_WORKER", 2)
+    specs = [{"sleep": 0.05}] * 9
+    recorder = Recorder()
+    outcomes = run_trials(trial_functions.worker_pid, specs, workers=2, progress=recorder)
+    assert all(outcome.ok for outcome in outcomes) and recorder.calls[-1] == (9, 9, 0)
+    pids = collections.Counter(results(outcomes))
+    assert max(pids.values()) <= 4  # a pool's four, at most
+    assert len(pids) >= 3  # nine trials, four a pool
+    assert os.getpid() not in pids
 
 
 def test_progress_is_called_once_per_trial_and_ends_at_total():
