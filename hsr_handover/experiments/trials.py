@@ -37,9 +37,10 @@ class ClusterUnavailable(RuntimeError):
 
 TRIALS_PER_WORKER = 32
 """Trials a pool of local workers runs per worker before fresh processes take over (one worker
-may run more of them than another, none more than the pool's): each trial's Drake diagrams
-stay alive in the process that built them (about 35 MB a trial, which gc does not free;
-drake#23161 has such a leak), and 330 trials a worker filled a 24 GiB machine."""
+may run more of them than another, none more than the pool's): in pydrake 1.51.1 a diagram
+that holds a Python LeafSystem is never freed (drake#23161; even one with no ports), so each
+trial leaves its diagrams in the process that ran it, about 35 MB, and 330 trials a worker
+filled a 24 GiB machine."""
 
 CRASHED = "BrokenProcessPool: a worker process died (crash, os._exit, kill) while this trial ran"
 NOT_RUN = "BrokenProcessPool: not run, worker processes died in two pools in a row"
