@@ -120,7 +120,7 @@ def test_trials_pending_when_a_worker_dies_run_in_a_fresh_pool():
 
 def test_no_worker_process_runs_more_than_a_pools_trials(monkeypatch):
     """Each trial's Drake diagrams stay alive in its worker: fresh workers take over once a pool
-    has run TRIALS_PER_WORKER trials a worker, and every trial still runs once, in order."""
+    has run TRIALS_PER_WORKER trials a worker, and every trial still runs, once."""
     monkeypatch.setattr(trials, "TRIALS_PER_WORKER", 2)
     specs = [{"sleep": 0.05}] * 9
     recorder = Recorder()
