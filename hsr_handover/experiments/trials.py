@@ -174,9 +174,8 @@ def _run_in_pools(
     """Pools of at most TRIALS_PER_WORKER trials a worker, one after another. When a worker
     died, the trials that had not started run in the next pool, so one crash does not fail the
     batch; a death in two pools in a row fails what is left."""
-    pending, died = list(range(len(specs))), False
+    pending, died, size = list(range(len(specs))), False, workers * TRIALS_PER_WORKER
     while pending:
-        size = workers * TRIALS_PER_WORKER
         batch, rest = pending[:size], pending[size:]
         lost = _pool_round(function, specs, batch, workers, tally)
         if lost and died:
