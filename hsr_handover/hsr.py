@@ -39,6 +39,7 @@ HEAD_JOINTS = ("head_pan_joint", "head_tilt_joint")
 COMMANDED_JOINTS = (*BASE_JOINTS, *ARM_JOINTS, *HEAD_JOINTS)
 """The joints the robot commands by position and velocity (the gripper is commanded apart)."""
 TORSO_JOINT = "torso_lift_joint"
+TORSO_PER_LIFT = 0.5  # the torso's lift per metre of the arm's (a mimic joint)
 GRIPPER_JOINT = "hand_l_finger_joint"
 GRIPPER_MIMIC_JOINT = "hand_r_finger_joint"
 GRIPPER_KEY = "gripper"
@@ -146,7 +147,7 @@ def hsr_set_positions(
     left untouched.
     """
     resolved = _resolve_positions(plant, instance, positions)
-    resolved[TORSO_JOINT] = 0.5 * resolved["arm_lift_joint"]
+    resolved[TORSO_JOINT] = TORSO_PER_LIFT * resolved["arm_lift_joint"]
     resolved[GRIPPER_MIMIC_JOINT] = resolved[GRIPPER_JOINT]
     q = plant.GetPositions(plant_context).copy()
     for name, value in resolved.items():

@@ -1,6 +1,7 @@
 """A collision-free path between two configurations: the straight line when it is clear,
 else an optimised one from each first guess in turn, kept only once it is verified between its
-samples (`verification`). When every first guess fails, `search_path` falls back: a solve that
+samples (`verification`). A carry first tries the stowed way, shortened (`stowed_way`), which
+needs no optimiser. When every first guess fails, `search_path` falls back: a solve that
 stopped short of a verdict (SNOPT's iteration limit, its numerical trouble) goes on from where
 it stopped, then the base drives first, the arm moves first, or the arm rises over the way; a
 path that fails them all says whether SNOPT found every guess infeasible or stopped short."""
@@ -20,6 +21,7 @@ from hsr_handover.robot.planning.outcome import Outcome
 from hsr_handover.robot.planning.planning_scene import PlanningScene
 from hsr_handover.robot.planning.solving import INFEASIBLE_CODE, verdict
 from hsr_handover.robot.planning.stopwatch import Stopwatch
+from hsr_handover.robot.planning.stowed_way import stowed_way
 from hsr_handover.robot.planning.trajectory import (
     COLLISION_SAMPLES,
     CONTROL_POINTS,
@@ -41,6 +43,7 @@ from hsr_handover.robot.planning.verification import (
 RETRY = "retry"  # the Stopwatch stage of the fallbacks
 RAISE_M = 0.2  # m the arm lift rises over the way for the "raised" fallback
 LINE_STEP = 0.01  # m or rad: the most any joint moves between two checks of a straight line
+STOWED_WAY = "stowed way"  # the path search's name for the shortened stowed way
 MAX_SAMPLES = 4 * COLLISION_SAMPLES
 """A path that dips between its samples is optimised again from itself at twice the samples,
 up to this many. (A 22 s carry round the table at 30 samples swept the held cup 16 cm into
@@ -81,14 +84,16 @@ def search_path(
     watch: Stopwatch,
     target: Target | None = None,
     first: Sequence[tuple[str, np.ndarray]] = (),
+    stowed_first: bool = False,
 ) -> PathSearch:
     """`find_path` from the guesses `first` (name, control points; a previous plan's way)
-    and then its own, timed as "optimisation" on `watch`; failing those, the fallbacks
+    and then its own, after the shortened stowed way when `stowed_first` asks for it (a
+    carry's), timed as "optimisation" on `watch`; failing those, the fallbacks
     (`_fallbacks`), timed as RETRY. Not ok: the reason says "infeasible" when SNOPT found every
     guess infeasible, else "solver trouble", and what each guess came to."""
     with watch.stage("optimisation"):
         path, reason, found_by, stopped = _first_tries(scene, q_from, q_to, ignore, straight,
-                                                      target, first)  # fmt: skip
+                                                      target, first, stowed_first)  # fmt: skip
     if path is not None:
         return PathSearch(ok=True, reason=reason, path=path, found_by=found_by)
     reasons = [reason]
@@ -102,7 +107,7 @@ def search_path(
     return PathSearch(ok=False, reason=f"{verdict(joined)}: {joined}")
 
 
-def _first_tries(scene, q_from, q_to, ignore, straight, target, first=()):
+def _first_tries(scene, q_from, q_to, ignore, straight, target, first=(), stowed_first=False):
     """(path or None, reason, the name of the guess that found it, the last points of the
     first solve that stopped short of a verdict or None)."""
     line = BsplineTrajectory(BsplineBasis(4, CONTROL_POINTS), straight_guess(q_from, q_to))
@@ -113,6 +118,11 @@ def _first_tries(scene, q_from, q_to, ignore, straight, target, first=()):
     elif _line_clear(scene, line, q_from, q_to, ignore, target):
         return line, "ok", "line", None
     reasons, stopped = [], None
+    if stowed_first:
+        path, reason = stowed_way(scene, q_from, q_to, ignore)
+        if path is not None:
+            return path, reason, STOWED_WAY, None
+        reasons.append(f"{STOWED_WAY}: {reason}")
     for name, guess in [*first, *_guesses(scene, q_from, q_to)]:
         path, reason, last = _verified_path(scene, q_from, q_to, guess, ignore, target)
         if path is not None:

@@ -22,7 +22,6 @@ from pydrake.trajectories import BsplineTrajectory
 
 from hsr_handover.hsr import (
     ARM_JOINTS,
-    BASE_JOINTS,
     GRIPPER_JOINT,
     GRIPPER_MIMIC_JOINT,
     PALM_FRAME,
@@ -41,11 +40,11 @@ from hsr_handover.robot.planning.paths import RETRY, search_path
 from hsr_handover.robot.planning.plan import Motion, Plan
 from hsr_handover.robot.planning.planning_scene import NEAR, PERSON, PlanningScene
 from hsr_handover.robot.planning.stopwatch import Stopwatch
+from hsr_handover.robot.planning.stowing import stowed, stowed_posture
 from hsr_handover.robot.planning.timing import JointLimits, time_path
 from hsr_handover.robot.planning.trajectory import (
     COLLISION_BOUND,
     COLLISION_SAMPLES,
-    STOWED,
     approached_target,
     start_contact,
 )
@@ -53,7 +52,6 @@ from hsr_handover.robot.planning.upright import (
     SLACK,
     keeps_upright,
     path_keeps_upright,
-    turned_up,
 )
 from hsr_handover.robot.planning.verification import (
     DIP_ALLOWANCE,
@@ -74,12 +72,9 @@ STRAIGHT_LEGS = (
     BACK_OFF,
     LOWER,
 )  # short moves of the hand: straight when clear
+CARRY = "carry"  # a handover plan's drive to the handover pose, holding the object
+SHORTENED_LEGS = (CARRY,)  # long drives with the arm: the shortened stowed way first
 AT_POSTURE = 0.01  # rad or m: every joint this near a posture is at it (no move to plan)
-STOW_BACK_UPS = (0.0, 0.15, 0.3)  # m the base may back up to stow the arm
-STOWED_HOLDING = {"arm_lift_joint": 0.3, "torso_lift_joint": 0.15}
-"""Stowed with an object still in the hand (a handover nobody took), the arm raised 30 cm: at
-STOWED's height the object rests on the base's front, which levered a cup out of the fingers
-2 s after the retreat."""
 AS_HELD = "the arm as it holds the object"  # the handover pose again, on the arm's own turn
 BACK_OFF_M = 0.20
 """m the palm first backs straight out, against its approach, when a retreat starts within the
@@ -207,7 +202,7 @@ def plan_retreat(
     watch = Stopwatch(STAGES)
     if held is None:
         ignore = (released,) if released else ()
-        q_stowed = _stowed(scene, q_now, ignore)
+        q_stowed = stowed(scene, q_now, ignore)
         legs = (Leg(RETREAT, ignore, q_now, q_stowed),)
         q_back = _backed_off(scene, q_now, (PERSON, *ignore))
         if q_back is not None:
@@ -217,7 +212,7 @@ def plan_retreat(
             )
         return _plan_legs(scene, RETREAT, legs, limits, watch)
     with holding(scene, held, q_now):
-        q_stowed = _stowed(scene, q_now, (held.label,), STOWED | STOWED_HOLDING)
+        q_stowed = stowed(scene, q_now, (held.label,), stowed_posture(scene))
         leg = Leg(RETREAT, (held.label,), q_now, q_stowed)
         return _plan_legs(scene, RETREAT, (leg,), limits, watch)
 
@@ -312,25 +307,6 @@ def plan_posture(
     return _plan_legs(scene, POSTURE, (leg,), limits, Stopwatch(STAGES))
 
 
-def _stowed(
-    scene: PlanningScene, q_now: np.ndarray, ignore: tuple[str, ...], posture=STOWED
-) -> np.ndarray:
-    """`q_now` with the arm in `posture`, the base backed up by the first of STOW_BACK_UPS
-    that clears the collision bound (the last if none does): a base that came up to the table
-    to present an object has no room there to fold the arm. An object held stays up
-    (`upright.turned_up`)."""
-    x, y, yaw = (scene.index(joint) for joint in BASE_JOINTS)
-    for back in STOW_BACK_UPS:
-        q_stowed = q_now.copy()
-        for joint, value in posture.items():
-            q_stowed[scene.index(joint)] = value
-        q_stowed[[x, y]] -= back * np.array([np.cos(q_now[yaw]), np.sin(q_now[yaw])])
-        q_stowed = turned_up(scene, q_stowed)
-        if scene.clearance_at(q_stowed, ignore) >= COLLISION_BOUND:
-            break
-    return q_stowed
-
-
 def _backed_off(scene: PlanningScene, q_now: np.ndarray, near: tuple[str, ...]):
     """The configuration with the palm BACK_OFF_M straight back from where it is (base still),
     when `q_now` is within the collision bound of one of the obstacles named in `near` (the
@@ -361,7 +337,7 @@ def _plan_handover(scene, arm_map, person, q_now, limits, ignore: tuple[str, ...
     retried = (f"handover pose: {pose.found_by}",) if pose.found_by else ()
     plan = None
     for q_goal, found_by in _carry_goals(scene, pose.q, q_now, ignore, watch):
-        leg = Leg("carry", ignore, q_now, q_goal)
+        leg = Leg(CARRY, ignore, q_now, q_goal)
         tried = _plan_legs(scene, HANDOVER, (leg,), limits, watch, ik_solves=1 + bool(found_by))
         plan = tried if plan is None or tried.ok else plan  # failing all, the first reason
         if tried.ok:
@@ -416,7 +392,8 @@ def _plan_legs(
         with watch.stage("optimisation"):
             approached = approached_target(scene, q_to, closes_on) if closes_on else None
         straight = name in STRAIGHT_LEGS
-        found = search_path(scene, q_from, q_to, ignore, straight, watch, approached, first)
+        found = search_path(scene, q_from, q_to, ignore, straight, watch, approached, first,
+                            stowed_first=name in SHORTENED_LEGS)  # fmt: skip
         reason = found.reason
         if found.ok:
             with watch.stage("timing"):

@@ -39,6 +39,7 @@ from hsr_handover.hsr import (
     GRIPPER_MIMIC_JOINT,
     PALM_FRAME,
     TORSO_JOINT,
+    TORSO_PER_LIFT,
     add_hsr,
     hsr_set_positions,
 )
@@ -155,7 +156,7 @@ class PlanningScene:
         """(A, b) with A q = b: the torso at half the arm lift, the right finger with the left
         (the plant's mimic joints, which optimisation does not see)."""
         rows = []
-        for follower, leader, ratio in ((TORSO_JOINT, "arm_lift_joint", 0.5),
+        for follower, leader, ratio in ((TORSO_JOINT, "arm_lift_joint", TORSO_PER_LIFT),
                                         (GRIPPER_MIMIC_JOINT, GRIPPER_JOINT, 1.0)):  # fmt: skip
             row = np.zeros(self.plant.num_positions())
             row[self.index(follower)], row[self.index(leader)] = 1.0, -ratio
