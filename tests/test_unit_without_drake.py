@@ -22,6 +22,7 @@ UNIT_TESTS = [
     "tests/robot/handover/test_take.py", "tests/robot/handover/test_hand_follower.py",
     "tests/robot/handover/test_put_back.py", "tests/robot/handover/test_correction_watch.py",
     "tests/robot/handover/test_person_points.py", "tests/robot/planning/test_plan.py",
+    "tests/robot/planning/test_shortcut.py",
     "tests/world/person/test_human.py", "tests/world/sensors/test_detector_model.py",
     "tests/interface/test_openpose_formats.py", "tests/interface/test_person_tracking.py",
     "tests/test_output_files.py",

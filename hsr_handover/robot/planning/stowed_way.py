@@ -24,6 +24,7 @@ from hsr_handover.robot.planning.trajectory import (
     COLLISION_BOUND,
     COLLISION_SAMPLES,
     StartContact,
+    driven,
     start_contact,
 )
 from hsr_handover.robot.planning.upright import SLACK, path_bound, path_keeps_upright, tilt
@@ -99,15 +100,9 @@ def _ways(scene, q_from, q_to, ignore):
         backed = over.copy()
         backed[[x, y]] = stowed_to[[x, y]]
         endings.append([stowed_to, backed, over])
-    for ending in endings:
-        stowed_to = ending[0]
+    for stowed_to, *drive_in in endings:
         route = route_out(stowed_from[[x, y]], stowed_to[[x, y]], scene.scene.table)
-        keys = [q_from, stowed_from]
-        for k, point in enumerate(route[1:-1], start=1):
-            q = stowed_from + (stowed_to - stowed_from) * k / (len(route) - 1)
-            q[[x, y]] = point
-            keys.append(q)
-        yield np.array([*keys, *ending, q_to])
+        yield np.array([q_from, *driven(scene, stowed_from, stowed_to, route), *drive_in, q_to])
 
 
 def _raised(scene: PlanningScene, q: np.ndarray, rise: float) -> np.ndarray:

@@ -156,17 +156,25 @@ def route_guess(
     for q in (stowed_start, stowed_goal):
         for joint, value in STOWED.items():
             q[scene.index(joint)] = value
-    x, y, yaw = (scene.index(joint) for joint in BASE_JOINTS)
-    keys = [q_start, stowed_start]
-    for k, point in enumerate(route[1:-1], start=1):
-        q = stowed_start + (stowed_goal - stowed_start) * k / (len(route) - 1)
-        q[x], q[y] = point
-        keys.append(q)
-    keys += [stowed_goal, q_goal]
-    keys = np.array(keys)
+    keys = np.array([q_start, *driven(scene, stowed_start, stowed_goal, route), q_goal])
     along = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(keys, axis=0), axis=1))])
     spots = np.linspace(0.0, along[-1], count)
     return np.array([np.interp(spots, along, keys[:, i]) for i in range(keys.shape[1])])
+
+
+def driven(
+    scene: PlanningScene, stowed_start: np.ndarray, stowed_goal: np.ndarray, route: np.ndarray
+) -> list[np.ndarray]:
+    """The configurations at the base `route`'s points (k, 2; its ends those of the two
+    configurations), from `stowed_start` to `stowed_goal`, every other joint changing evenly
+    along the route's points."""
+    x, y = (scene.index(joint) for joint in BASE_JOINTS[:2])
+    keys = [stowed_start]
+    for k, point in enumerate(route[1:-1], start=1):
+        q = stowed_start + (stowed_goal - stowed_start) * k / (len(route) - 1)
+        q[[x, y]] = point
+        keys.append(q)
+    return [*keys, stowed_goal]
 
 
 def optimize_path(

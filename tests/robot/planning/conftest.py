@@ -1,6 +1,7 @@
 """The HSR's plant and limits for the planning tests (fixtures), configurations by joint name
-(`configuration`) and the base slid until it is a given distance from an obstacle
-(`slid_until`), imported by the tests."""
+(`configuration`), the base slid until it is a given distance from an obstacle
+(`slid_until`) and a cup standing between the hand's pads (`cup_in_hand`), imported by the
+tests."""
 
 from __future__ import annotations
 
@@ -65,3 +66,16 @@ def slid_until(
 
     q[i] = scipy.optimize.brentq(off, *bracket, xtol=1e-5)
     return q
+
+
+def cup_in_hand(scene, q: np.ndarray, label: str = "red"):
+    """The cup (a 7 cm cylinder 10 cm high) as it stands between the pads of the hand of the
+    PlanningScene `scene` at `q`."""
+    from hsr_handover.hsr import PALM_FRAME
+    from hsr_handover.robot.perception.object_shapes import CYLINDER, ObjectShape
+
+    scene.plant.SetPositions(scene.plant_context, q)
+    palm = scene.plant.GetFrameByName(PALM_FRAME, scene.robot).CalcPoseInWorld(scene.plant_context)
+    pads = palm.translation() + 0.03 * palm.rotation().matrix()[:, 2]
+    return ObjectShape(label, CYLINDER, pads[:2], np.array([0.07, 0.07]), 0.0, pads[2] - 0.05,
+                       0.10)  # fmt: skip

@@ -9,8 +9,6 @@ import pytest
 from pydrake.math import BsplineBasis
 from pydrake.trajectories import BsplineTrajectory
 
-from hsr_handover.hsr import PALM_FRAME
-from hsr_handover.robot.perception.object_shapes import CYLINDER, ObjectShape
 from hsr_handover.robot.perception.table_fit import TableEstimate
 from hsr_handover.robot.planning import stowed_way as way
 from hsr_handover.robot.planning.perceived_scene import PerceivedScene
@@ -20,6 +18,7 @@ from hsr_handover.robot.planning.timing import joint_limits, time_path
 from hsr_handover.robot.planning.trajectory import start_contact
 from hsr_handover.robot.planning.upright import keeps_upright
 from hsr_handover.robot.planning.verification import DIP_ALLOWANCE, path_dips
+from tests.robot.planning.conftest import cup_in_hand
 
 TABLE = TableEstimate(0.72, np.array([0.845, 0.0]), np.array([0.6, 1.0]), 0.0, 6000)
 HELD_OUT = {"arm_lift_joint": 0.6, "arm_flex_joint": -1.57, "wrist_flex_joint": 0.0}
@@ -36,14 +35,6 @@ def _at(scene: PlanningScene, **base: float) -> np.ndarray:
     return scene.positions()
 
 
-def _cup_in_hand(scene: PlanningScene, q: np.ndarray) -> ObjectShape:
-    scene.plant.SetPositions(scene.plant_context, q)
-    palm = scene.plant.GetFrameByName(PALM_FRAME, scene.robot).CalcPoseInWorld(scene.plant_context)
-    pads = palm.translation() + 0.03 * palm.rotation().matrix()[:, 2]
-    return ObjectShape("red", CYLINDER, pads[:2], np.array([0.07, 0.07]), 0.0, pads[2] - 0.05,
-                       0.10)  # fmt: skip
-
-
 @pytest.fixture(scope="module")
 def ends(scene) -> tuple[np.ndarray, np.ndarray]:
     """From the table's -x side (the hand over the table) to its -y side, facing it."""
@@ -55,7 +46,7 @@ def ends(scene) -> tuple[np.ndarray, np.ndarray]:
 def test_the_way_round_the_corner_is_clear_upright_and_faster_than_the_stowed_way(scene, ends):
     q_from, q_to = ends
     limits = joint_limits(scene.plant)
-    with scene.holding("red", q_from, _cup_in_hand(scene, q_from)):
+    with scene.holding("red", q_from, cup_in_hand(scene, q_from)):
         path, reason = way.stowed_way(scene, q_from, q_to, ("red",))
         assert reason == "ok" and path is not None
         np.testing.assert_allclose(path.value(path.start_time()).ravel(), q_from, atol=1e-9)
@@ -74,6 +65,6 @@ def test_the_way_round_the_corner_is_clear_upright_and_faster_than_the_stowed_wa
 def test_a_stowed_way_that_is_not_clear_is_refused_with_its_reason(scene, ends):
     q_from, _ = ends
     inside = _at(scene, base_x=0.845, base_y=-0.2)  # the base under the table's top
-    with scene.holding("red", q_from, _cup_in_hand(scene, q_from)):
+    with scene.holding("red", q_from, cup_in_hand(scene, q_from)):
         path, reason = way.stowed_way(scene, q_from, inside, ("red",))
     assert path is None and reason == "the stowed way is not clear"

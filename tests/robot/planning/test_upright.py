@@ -34,6 +34,7 @@ from hsr_handover.robot.planning.upright import (
     tilt,
     upright_for,
 )
+from tests.robot.planning.conftest import cup_in_hand
 
 TABLE_TOP = 0.72
 CUP = ObjectShape("red", CYLINDER, np.array([0.8, 0.0]), np.array([0.07, 0.07]), 0.0,
@@ -55,15 +56,6 @@ def level(scene) -> np.ndarray:
     return scene.positions()
 
 
-def _in_hand(scene: PlanningScene, q: np.ndarray) -> ObjectShape:
-    """The cup as it stands between the pads of the hand at `q`."""
-    scene.plant.SetPositions(scene.plant_context, q)
-    palm = scene.plant.GetFrameByName(PALM_FRAME, scene.robot).CalcPoseInWorld(scene.plant_context)
-    pads = palm.translation() + 0.03 * palm.rotation().matrix()[:, 2]
-    return ObjectShape("red", CYLINDER, pads[:2], np.array([0.07, 0.07]), 0.0, pads[2] - 0.05,
-                       0.10)  # fmt: skip
-
-
 def _rolled(scene: PlanningScene, q: np.ndarray, roll: float) -> np.ndarray:
     q = q.copy()
     q[scene.index("wrist_roll_joint")] = roll
@@ -72,7 +64,7 @@ def _rolled(scene: PlanningScene, q: np.ndarray, roll: float) -> np.ndarray:
 
 def test_tilt_is_read_from_the_hand_as_it_holds_the_object(scene, level):
     assert tilt(scene, _rolled(scene, level, 3.0)) == 0.0  # nothing held
-    with scene.holding("red", level, _in_hand(scene, level)):
+    with scene.holding("red", level, cup_in_hand(scene, level)):
         assert scene.upright.most == CUP_TILT
         assert tilt(scene, level) == pytest.approx(0.0, abs=1e-6)
         assert math.degrees(tilt(scene, _rolled(scene, level, 0.5))) == pytest.approx(28.6, abs=0.5)
@@ -89,7 +81,7 @@ def test_a_box_may_lie_on_its_side_and_a_cup_may_not():
 
 def test_the_bound_of_a_path_is_its_ends_tilt_where_they_pass_it(scene, level):
     tipped = _rolled(scene, level, 1.0)  # 57 degrees
-    with scene.holding("red", level, _in_hand(scene, level)):
+    with scene.holding("red", level, cup_in_hand(scene, level)):
         assert path_bound(scene, level, level) == CUP_TILT
         assert path_bound(scene, tipped, level) == pytest.approx(1.0 + SLACK, abs=1e-3)
         assert keeps_upright(scene, [level, _rolled(scene, level, 0.3), level])
@@ -113,7 +105,7 @@ def test_inverse_kinematics_keeps_a_held_cup_up_where_the_closing_axis_allows_ei
     flipped = _rolled(scene, level, 3.0)  # the hand's other turn, nearest this seed
     free = solve_palm_ik(scene, goal, flipped)
     assert free.ok
-    with scene.holding("red", level, _in_hand(scene, level)):
+    with scene.holding("red", level, cup_in_hand(scene, level)):
         assert tilt(scene, free.q) > math.radians(150)  # what the free solve would hold out
         kept = solve_palm_ik(scene, goal, flipped)
         assert kept.ok, kept.reason
@@ -128,7 +120,7 @@ def test_a_path_that_tilts_the_held_cup_between_its_ends_is_not_taken(scene, lev
     swung = BsplineTrajectory(BsplineBasis(4, 10), over)
     found = PathResult(ok=True, reason="ok", path=swung)
     monkeypatch.setattr(paths, "optimize_path", lambda *args, **kwargs: found)
-    with scene.holding("red", level, _in_hand(scene, level)):
+    with scene.holding("red", level, cup_in_hand(scene, level)):
         path, reason, _ = paths._verified_path(scene, level, goal, over, ("red",), None)
     assert path is None
     assert "tilts the object held" in reason
@@ -193,7 +185,7 @@ def test_a_carry_that_fails_is_planned_again_to_the_pose_on_the_arms_turn(
 
 
 def test_a_pose_whose_straight_way_tips_the_cup_is_tried_after_the_arms_own_turn(scene, level):
-    held = _in_hand(scene, level)
+    held = cup_in_hand(scene, level)
     with scene.holding("red", level, held):
         straight = _other_turn(scene, level)
         straight[scene.index("base_y_joint")] += 0.1
