@@ -18,7 +18,7 @@ from scipy.interpolate import make_lsq_spline
 from hsr_handover.hsr import ARM_JOINTS, BASE_JOINTS, TORSO_JOINT, TORSO_PER_LIFT
 from hsr_handover.robot.planning.base_route import route_out
 from hsr_handover.robot.planning.planning_scene import PlanningScene
-from hsr_handover.robot.planning.shortcut import resampled, shorten
+from hsr_handover.robot.planning.shortcut import resampled, seconds, shorten
 from hsr_handover.robot.planning.stowing import stowed, stowed_posture
 from hsr_handover.robot.planning.trajectory import (
     COLLISION_BOUND,
@@ -49,6 +49,8 @@ def stowed_way(
 ) -> tuple[BsplineTrajectory | None, str]:
     """The shortened stowed way from `q_from` to `q_to` (plant positions), touching nothing
     but `ignore`, and "ok"; or None and why not."""
+    if not (np.isfinite(q_from).all() and np.isfinite(q_to).all()):
+        return None, "the way's ends are not finite"
     speeds = _speeds(scene)
     check = _Check(scene, ignore, start_contact(scene, q_from, ignore), q_from, q_to)
     for keys in _ways(scene, q_from, q_to, ignore):
@@ -60,7 +62,8 @@ def stowed_way(
     points = shorten(points, speeds, _groups(scene), check, ATTEMPTS)
     through = BsplineTrajectory(BsplineBasis(4, WAY_POINTS), points.T.copy())
     samples = VERIFY_PER_SAMPLE * COLLISION_SAMPLES
-    for path in (_smoothed(points, speeds), through):
+    smoothed = (_smoothed(points, speeds),) if seconds(points, speeds) > 0 else ()
+    for path in (*smoothed, through):
         dips = path_dips(scene, path, ignore, check.contact, samples)
         if dips.max() <= DIP_ALLOWANCE and path_keeps_upright(scene, path, samples, SLACK):
             return path, "ok"

@@ -68,3 +68,36 @@ def test_a_stowed_way_that_is_not_clear_is_refused_with_its_reason(scene, ends):
     with scene.holding("red", q_from, cup_in_hand(scene, q_from)):
         path, reason = way.stowed_way(scene, q_from, inside, ("red",))
     assert path is None and reason == "the stowed way is not clear"
+
+
+def test_ends_that_are_not_finite_are_refused(scene, ends):
+    q_from, q_to = ends
+    broken = q_to.copy()
+    broken[0] = np.nan
+    path, reason = way.stowed_way(scene, q_from, broken, ())
+    assert path is None and reason == "the way's ends are not finite"
+
+
+def test_the_later_ways_unstow_standing_back_and_drive_in_over_the_goal(scene, ends):
+    """After the way that unstows at the goal's base, the base stands back along the goal's
+    heading by each of DRIVE_INS, the arm unstows to the goal raised by OVER (within the lift's
+    limit, the torso with it) there, the base
+    drives in and the arm lowers onto the goal."""
+    q_from, q_to = ends
+    ways = list(way._ways(scene, q_from, q_to, ()))
+    assert len(ways) == 1 + len(way.DRIVE_INS)
+    x, y, yaw = (scene.index(joint) for joint in ("base_x_joint", "base_y_joint", "base_yaw_joint"))
+    lift, torso = scene.index("arm_lift_joint"), scene.index("torso_lift_joint")
+    heading = np.array([np.cos(q_to[yaw]), np.sin(q_to[yaw])])
+    for back, keys in zip(way.DRIVE_INS, ways[1:], strict=True):
+        stood_back, unstowed, over, goal = keys[-4:]
+        np.testing.assert_allclose(goal, q_to)
+        np.testing.assert_allclose(stood_back[[x, y]], q_to[[x, y]] - back * heading, atol=1e-9)
+        np.testing.assert_allclose(unstowed[[x, y]], stood_back[[x, y]])
+        np.testing.assert_allclose(over[[x, y]], q_to[[x, y]])
+        top = scene.plant.GetPositionUpperLimits()[lift]  # 0.69 m: the goal's 0.6 rises 9 cm
+        assert over[lift] == pytest.approx(min(top, q_to[lift] + way.OVER))
+        assert over[torso] == pytest.approx(q_to[torso] + (over[lift] - q_to[lift]) / 2)
+        arm = [i for i in range(len(q_to)) if i not in (x, y, lift, torso)]
+        np.testing.assert_allclose(unstowed[arm], q_to[arm])
+    np.testing.assert_allclose(ways[0][0], q_from)
