@@ -15,7 +15,7 @@ from pydrake.math import BsplineBasis
 from pydrake.trajectories import BsplineTrajectory
 from scipy.interpolate import make_lsq_spline
 
-from hsr_handover.hsr import ARM_JOINTS, BASE_JOINTS, TORSO_JOINT, TORSO_PER_LIFT
+from hsr_handover.hsr import ARM_JOINTS, BASE_JOINTS, HEAD_JOINTS, TORSO_JOINT, TORSO_PER_LIFT
 from hsr_handover.robot.planning.base_route import route_out
 from hsr_handover.robot.planning.planning_scene import PlanningScene
 from hsr_handover.robot.planning.shortcut import resampled, seconds, shorten
@@ -48,9 +48,12 @@ def stowed_way(
     scene: PlanningScene, q_from: np.ndarray, q_to: np.ndarray, ignore: tuple[str, ...]
 ) -> tuple[BsplineTrajectory | None, str]:
     """The shortened stowed way from `q_from` to `q_to` (plant positions), touching nothing
-    but `ignore`, and "ok"; or None and why not."""
+    but `ignore`, the head held where it starts, and "ok"; or None and why not."""
     if not (np.isfinite(q_from).all() and np.isfinite(q_to).all()):
         return None, "the way's ends are not finite"
+    head = [scene.index(joint) for joint in HEAD_JOINTS]
+    q_to = q_to.copy()
+    q_to[head] = q_from[head]  # as every path holds it (`trajectory.optimize_path`)
     speeds = _speeds(scene)
     check = _Check(scene, ignore, start_contact(scene, q_from, ignore), q_from, q_to)
     for keys in _ways(scene, q_from, q_to, ignore):

@@ -101,3 +101,17 @@ def test_the_later_ways_unstow_standing_back_and_drive_in_over_the_goal(scene, e
         arm = [i for i in range(len(q_to)) if i not in (x, y, lift, torso)]
         np.testing.assert_allclose(unstowed[arm], q_to[arm])
     np.testing.assert_allclose(ways[0][0], q_from)
+
+
+def test_the_head_stays_where_it_starts(scene, ends):
+    """The gaze aims the head, not plans: a goal with the head elsewhere (kept from an earlier
+    plan) is reached with the head as at the start, all along."""
+    q_from, q_to = ends
+    head = [scene.index(joint) for joint in ("head_pan_joint", "head_tilt_joint")]
+    looking = q_to.copy()
+    looking[head] = [0.4, -0.3]
+    with scene.holding("red", q_from, cup_in_hand(scene, q_from)):
+        path, _ = way.stowed_way(scene, q_from, looking, ("red",))
+    times = np.linspace(path.start_time(), path.end_time(), 50)
+    heads = np.array([path.value(t).ravel()[head] for t in times])
+    np.testing.assert_allclose(heads, np.tile(q_from[head], (50, 1)), atol=1e-9)
