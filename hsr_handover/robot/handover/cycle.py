@@ -257,14 +257,20 @@ class HandoverCycle(PuttingBack, Presenting):
 
     def _check_way(self, p: Percepts) -> None:
         """Every `recheck_s`, the carry still to go against the person as seen now: one that
-        comes within `carry_clear` of them stops where it is, to be planned again."""
+        comes within `carry_clear` of them stops where it is, to be planned again. Where the
+        robot already stands deeper than that, the way may come as deep, less
+        `carry_clear_slack`: the robot cannot stand inside a person without touching them, so
+        such a percept is its own hand or the object it holds, in front of the camera, taken
+        for the person's (a keypoint lifted onto what is nearer at its pixel)."""
         fetch, params = self._fetch, self._params
         if p.time - fetch.checked < params.recheck_s:
             return
         fetch.checked = p.time
+        here = self.planner.person_clearance([p.q], fetch.held, params.carry_clear)
+        bound = min(params.carry_clear, here - params.carry_clear_slack)
         ahead = self._motions.still_to_play(p.time, AHEAD_STEP_S)
-        clearance = self.planner.person_clearance(ahead, fetch.held, params.carry_clear)
-        if clearance >= params.carry_clear:
+        clearance = self.planner.person_clearance(ahead, fetch.held, bound)
+        if clearance >= bound:
             return
         fetch.carried += tuple(self._motions.played_so_far("carry", p.time))
         fetch.stopped = True

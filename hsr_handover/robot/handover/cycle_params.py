@@ -60,6 +60,11 @@ class CycleParams:
     person at rest moves a centimetre or two between frames: a carry, planned
     `trajectory.COLLISION_BOUND` clear of the capsules as they were, checked at zero stopped
     four more times for that alone (0.2 to 1.9 cm in)."""
+    carry_clear_slack: float = 0.02
+    """m deeper than where the robot stands that a carry's way may come into the person's
+    capsules, where the robot already stands deeper than `carry_clear` (`cycle._check_way`):
+    the held object carried past the camera hid a seated person's hands, their keypoints were
+    lifted onto it, and carries stopped for a person a metre away, 8-17 cm deep in them."""
     still_speed: float = 0.05
     """m/s: a palm slower than this holds the object still, as a person sees it: people reach
     for an object that has come to rest in front of them (`offer_watch`)."""

@@ -53,12 +53,16 @@ class Planner:
     back_off_ok: bool = True
     follow_reach: float = np.inf  # m from where the object is held out that a follow reaches
     in_the_way: list = dataclasses.field(default_factory=list)  # clearances to the person, m
+    standing_in: list = dataclasses.field(default_factory=list)  # the same, where it stands
     person_reach: float = 0.0  # m round PALM the person reaches
     asked: list = dataclasses.field(default_factory=list)
     checked: list = dataclasses.field(default_factory=list)  # the paths checked, and within
 
     def person_clearance(self, path, held, within):
-        """The next of `in_the_way` (inf when none is left), for the path checked."""
+        """The next of `in_the_way` (inf when none is left), for the path checked; for the one
+        configuration the robot stands in, the next of `standing_in`."""
+        if len(path) == 1:
+            return self.standing_in.pop(0) if self.standing_in else np.inf
         self.checked.append((path, held, within))
         return self.in_the_way.pop(0) if self.in_the_way else np.inf
 
@@ -710,6 +714,25 @@ def test_a_carry_that_would_come_into_the_person_stops_and_is_planned_again_from
     record = world.until(Phase.PRESENT)
     assert record.failure is None
     np.testing.assert_allclose(world.q, stopped_at + 1)  # the second carry, from where it stopped
+
+
+def test_a_carry_standing_in_the_percept_runs_on_while_the_way_comes_no_deeper():
+    """The object carried past the camera hides the person's hands, whose keypoints are lifted
+    onto it: the robot stands 10 cm "inside" the person. A way no deeper than that, less
+    carry_clear_slack, runs on; one that comes deeper stops."""
+    planner = Planner(in_the_way=[-0.1, -0.11], standing_in=[-0.1, -0.1])
+    world = _carrying(planner)
+    record = world.until(Phase.PRESENT)
+    assert record.failure is None
+    assert [ask[0] for ask in planner.asked] == ["grasp", "carry"]  # never stopped
+    assert all(within == pytest.approx(-0.1 - PARAMS.carry_clear_slack)
+               for _, _, within in planner.checked[:2])  # fmt: skip
+
+    deeper = Planner(in_the_way=[np.inf, -0.15], standing_in=[-0.1, -0.1])
+    world = _carrying(deeper)
+    world.tick(0.5)
+    world.tick()
+    assert [ask[0] for ask in deeper.asked] == ["grasp", "carry", "carry"]  # stopped, replanned
 
 
 def test_a_carry_stopped_within_the_persons_reach_presents_the_object_there():
