@@ -34,7 +34,11 @@ WAY_POINTS = 30  # vertices of the polyline, and control points of the B-spline 
 ATTEMPTS = 400
 """Shortcuts tried. On the planning benchmark's 42 carries the timed carries (smoothed) came
 out 1 % shorter than SNOPT's after 200, 2 % after 300 and 4 % after 400, in about 0.1 s."""
-DRIVE_INS = (0.15, 0.3)  # m the base may stand back from the goal's to unstow and drive in
+DRIVE_INS = (0.3, 0.15)
+"""m the base stands back from the goal's to unstow and drive in, tried in turn. Unstowed at
+the goal's base, the object swept down in front of a seated person hid them from the camera
+as the carry ended, and the robot, presenting, gave up after 2 s without seeing them (the
+handover reference's trials 28 and 46)."""
 OVER = 0.1  # m the arm is raised over the goal to drive in
 SMOOTH_POINTS = 16
 """Control points of the spline fitted to the shortened way (`_smoothed`). On the planning
@@ -92,20 +96,22 @@ def _smoothed(points: np.ndarray, speeds: np.ndarray) -> BsplineTrajectory:
 
 def _ways(scene, q_from, q_to, ignore):
     """The polylines (k, nq) to try, each stowing, driving the base's route (the stowed arm's
-    joints and the base's heading changing evenly along it) and unstowing: at the goal's
-    base (backed up as `stowing.stowed` must), then backed up by each of DRIVE_INS, the arm
-    unstowed to the goal raised by OVER, driven in and lowered: unstowed where the handover
-    pose's base stands, the arm can sweep the object through the person's hand."""
+    joints and the base's heading changing evenly along it) and unstowing: first standing
+    back from the goal's base by each of DRIVE_INS, the arm unstowed to the goal raised by
+    OVER, driven in and lowered; then at the goal's base (backed up as `stowing.stowed` must).
+    Unstowed at the handover pose's base, the arm sweeps the object down in front of the
+    person, between them and the camera (`DRIVE_INS`)."""
     posture = stowed_posture(scene)
     stowed_from = stowed(scene, q_from, ignore, posture)
     x, y = (scene.index(joint) for joint in BASE_JOINTS[:2])
     over = _raised(scene, q_to, OVER)
-    endings = [[stowed(scene, q_to, ignore, posture)]]
+    endings = []
     for back in DRIVE_INS:
         stowed_to = stowed(scene, q_to, ignore, posture, (back,))
         backed = over.copy()
         backed[[x, y]] = stowed_to[[x, y]]
         endings.append([stowed_to, backed, over])
+    endings.append([stowed(scene, q_to, ignore, posture)])
     for stowed_to, *drive_in in endings:
         route = route_out(stowed_from[[x, y]], stowed_to[[x, y]], scene.scene.table)
         yield np.array([q_from, *driven(scene, stowed_from, stowed_to, route), *drive_in, q_to])

@@ -55,7 +55,7 @@ def test_the_way_round_the_corner_is_clear_upright_and_faster_than_the_stowed_wa
         assert path_dips(scene, path, ("red",), contact, 400).max() <= DIP_ALLOWANCE
         times = np.linspace(path.start_time(), path.end_time(), 200)
         assert keeps_upright(scene, np.array([path.value(t).ravel() for t in times]))
-        keys = next(way._ways(scene, q_from, q_to, ("red",)))
+        keys = next(way._ways(scene, q_from, q_to, ("red",)))  # the first: driven in
         stowed = resampled(keys, way._speeds(scene), way.WAY_POINTS)
         unshortened = BsplineTrajectory(BsplineBasis(4, way.WAY_POINTS), stowed.T.copy())
         duration = time_path(path, limits).duration
@@ -78,18 +78,17 @@ def test_ends_that_are_not_finite_are_refused(scene, ends):
     assert path is None and reason == "the way's ends are not finite"
 
 
-def test_the_later_ways_unstow_standing_back_and_drive_in_over_the_goal(scene, ends):
-    """After the way that unstows at the goal's base, the base stands back along the goal's
+def test_the_first_ways_unstow_standing_back_and_drive_in_over_the_goal(scene, ends):
+    """Before the way that unstows at the goal's base, the base stands back along the goal's
     heading by each of DRIVE_INS, the arm unstows to the goal raised by OVER (within the lift's
-    limit, the torso with it) there, the base
-    drives in and the arm lowers onto the goal."""
+    limit, the torso with it) there, the base drives in and the arm lowers onto the goal."""
     q_from, q_to = ends
     ways = list(way._ways(scene, q_from, q_to, ()))
     assert len(ways) == 1 + len(way.DRIVE_INS)
     x, y, yaw = (scene.index(joint) for joint in ("base_x_joint", "base_y_joint", "base_yaw_joint"))
     lift, torso = scene.index("arm_lift_joint"), scene.index("torso_lift_joint")
     heading = np.array([np.cos(q_to[yaw]), np.sin(q_to[yaw])])
-    for back, keys in zip(way.DRIVE_INS, ways[1:], strict=True):
+    for back, keys in zip(way.DRIVE_INS, ways[:-1], strict=True):
         stood_back, unstowed, over, goal = keys[-4:]
         np.testing.assert_allclose(goal, q_to)
         np.testing.assert_allclose(stood_back[[x, y]], q_to[[x, y]] - back * heading, atol=1e-9)
@@ -100,7 +99,8 @@ def test_the_later_ways_unstow_standing_back_and_drive_in_over_the_goal(scene, e
         assert over[torso] == pytest.approx(q_to[torso] + (over[lift] - q_to[lift]) / 2)
         arm = [i for i in range(len(q_to)) if i not in (x, y, lift, torso)]
         np.testing.assert_allclose(unstowed[arm], q_to[arm])
-    np.testing.assert_allclose(ways[0][0], q_from)
+    np.testing.assert_allclose(ways[-1][0], q_from)
+    np.testing.assert_allclose(ways[-1][-2][[x, y]], q_to[[x, y]])  # unstowed at the goal
 
 
 def test_the_head_stays_where_it_starts(scene, ends):
