@@ -31,6 +31,7 @@ from hsr_handover.robot.planning.trajectory import (
     route_guess,
     start_contact,
     straight_guess,
+    through,
 )
 from hsr_handover.robot.planning.upright import SLACK, path_keeps_upright
 from hsr_handover.robot.planning.verification import (
@@ -165,14 +166,6 @@ def _fallbacks(scene: PlanningScene, q_from: np.ndarray, q_to: np.ndarray, stopp
     for q in (raised_from, raised_to):
         q[lift] = min(top, max(q_from[lift], q_to[lift]) + RAISE_M)
     yield "raised", through([q_from, raised_from, raised_to, q_to])
-
-
-def through(keys: Sequence[np.ndarray], count: int = CONTROL_POINTS) -> np.ndarray:
-    """Control points (nq, count) evenly spaced in joint space along the polyline `keys`."""
-    keys = np.array(keys, dtype=float)
-    along = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(keys, axis=0), axis=1))])
-    spots = np.linspace(0.0, along[-1], count)
-    return np.array([np.interp(spots, along, keys[:, i]) for i in range(keys.shape[1])])
 
 
 def _verified_path(scene, q_from, q_to, guess, ignore, target: Target | None):

@@ -49,15 +49,9 @@ from hsr_handover.robot.planning.trajectory import (
     start_contact,
 )
 from hsr_handover.robot.planning.upright import (
-    SLACK,
     keeps_upright,
-    path_keeps_upright,
 )
-from hsr_handover.robot.planning.verification import (
-    DIP_ALLOWANCE,
-    VERIFY_PER_SAMPLE,
-    path_dips,
-)
+from hsr_handover.robot.planning.verification import verified
 
 STAGES = ("ik", "optimisation", "timing", RETRY)
 HANDOVER = "handover"  # a handover plan's target
@@ -263,11 +257,8 @@ def _way_back(scene, q_now, q_to, came, ignore, limits, watch: Stopwatch) -> Pla
             points[:, 0], points[:, -1] = q_now, q_to
             first = (("came", points),)
             path = BsplineTrajectory(BsplineBasis(4, points.shape[1]), points)
-            contact = start_contact(scene, q_now, ignore)
-            samples = VERIFY_PER_SAMPLE * COLLISION_SAMPLES
-            dips = path_dips(scene, path, ignore, contact, samples)
-            kept_up = path_keeps_upright(scene, path, samples, SLACK)
-        if dips.max() <= DIP_ALLOWANCE and kept_up:
+            clear = verified(scene, path, ignore, start_contact(scene, q_now, ignore))
+        if clear:
             with watch.stage("timing"):
                 timed = time_path(path, limits)
             if timed.ok:

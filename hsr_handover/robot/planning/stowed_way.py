@@ -22,13 +22,12 @@ from hsr_handover.robot.planning.shortcut import resampled, seconds, shorten
 from hsr_handover.robot.planning.stowing import stowed, stowed_posture
 from hsr_handover.robot.planning.trajectory import (
     COLLISION_BOUND,
-    COLLISION_SAMPLES,
     StartContact,
     driven,
     start_contact,
 )
-from hsr_handover.robot.planning.upright import SLACK, path_bound, path_keeps_upright, tilt
-from hsr_handover.robot.planning.verification import DIP_ALLOWANCE, VERIFY_PER_SAMPLE, path_dips
+from hsr_handover.robot.planning.upright import path_bound, tilt
+from hsr_handover.robot.planning.verification import verified
 
 WAY_POINTS = 30  # vertices of the polyline, and control points of the B-spline through them
 ATTEMPTS = 400
@@ -68,11 +67,9 @@ def stowed_way(
         return None, "the stowed way is not clear"
     points = shorten(points, speeds, _groups(scene), check, ATTEMPTS)
     through = BsplineTrajectory(BsplineBasis(4, WAY_POINTS), points.T.copy())
-    samples = VERIFY_PER_SAMPLE * COLLISION_SAMPLES
     smoothed = (_smoothed(points, speeds),) if seconds(points, speeds) > 0 else ()
     for path in (*smoothed, through):
-        dips = path_dips(scene, path, ignore, check.contact, samples)
-        if dips.max() <= DIP_ALLOWANCE and path_keeps_upright(scene, path, samples, SLACK):
+        if verified(scene, path, ignore, check.contact):
             return path, "ok"
     return None, "the shortened stowed way dips between its checks"
 

@@ -156,7 +156,12 @@ def route_guess(
     for q in (stowed_start, stowed_goal):
         for joint, value in STOWED.items():
             q[scene.index(joint)] = value
-    keys = np.array([q_start, *driven(scene, stowed_start, stowed_goal, route), q_goal])
+    return through([q_start, *driven(scene, stowed_start, stowed_goal, route), q_goal], count)
+
+
+def through(keys, count: int = CONTROL_POINTS) -> np.ndarray:
+    """Control points (nq, count) evenly spaced in joint space along the polyline `keys`."""
+    keys = np.array(keys, dtype=float)
     along = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(keys, axis=0), axis=1))])
     spots = np.linspace(0.0, along[-1], count)
     return np.array([np.interp(spots, along, keys[:, i]) for i in range(keys.shape[1])])

@@ -10,7 +10,13 @@ import numpy as np
 
 from hsr_handover.robot.planning.plan import Motion
 from hsr_handover.robot.planning.planning_scene import PlanningScene
-from hsr_handover.robot.planning.trajectory import COLLISION_BOUND, StartContact, Target
+from hsr_handover.robot.planning.trajectory import (
+    COLLISION_BOUND,
+    COLLISION_SAMPLES,
+    StartContact,
+    Target,
+)
+from hsr_handover.robot.planning.upright import SLACK, path_keeps_upright
 
 CHECK_STEP = 0.01  # s between clearance checks of a timed trajectory
 VERIFY_PER_SAMPLE = 4  # an optimised path is checked at this many times its optimiser's samples
@@ -42,6 +48,15 @@ def path_dips(
     clear of them all."""
     spots = np.linspace(0.0, 1.0, samples)
     return np.array([_dip(scene, path, ignore, contact, spot, target) for spot in spots])
+
+
+def verified(scene: PlanningScene, path, ignore: tuple[str, ...], contact: StartContact) -> bool:
+    """Whether a path that no optimiser made (a way taken as it came, the stowed way) is as
+    clear as an optimised one must be: no more than DIP_ALLOWANCE inside its bounds and the
+    object held up (`upright.SLACK`) at VERIFY_PER_SAMPLE times the optimiser's samples."""
+    samples = VERIFY_PER_SAMPLE * COLLISION_SAMPLES
+    dips = path_dips(scene, path, ignore, contact, samples)
+    return dips.max() <= DIP_ALLOWANCE and path_keeps_upright(scene, path, samples, SLACK)
 
 
 def keeps_bounds(

@@ -124,7 +124,7 @@ def test_a_put_back_starts_the_optimiser_from_the_way_it_came(scene, limits, mon
     q_now = q_lifted.copy()
     q_now[scene.index("base_y_joint")] = 0.3
     came = list(np.linspace(q_lifted, q_now, 16))
-    monkeypatch.setattr(planner, "path_dips", lambda *args, **kwargs: np.array([1.0]))
+    monkeypatch.setattr(planner, "verified", lambda *args, **kwargs: False)
     guesses = _failing_first(monkeypatch, 0, "")
     held = Held("red", _ready(scene))
     plan = plan_put_back(scene, q_now, held, q_lifted, limits, came)
