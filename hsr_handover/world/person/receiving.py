@@ -19,7 +19,7 @@ from collections.abc import Sequence
 import numpy as np
 from scipy.spatial.distance import cdist
 
-from hsr_handover.world.person.aiming import arm_move_points, reaching_arm_angles
+from hsr_handover.world.person.aiming import arm_move_points
 from hsr_handover.world.person.behavior import REACHES, Action, rest_posture, target_posture
 from hsr_handover.world.person.body import (
     HAND_THICKNESS,
@@ -274,10 +274,11 @@ def path_clearance(
 ) -> float:
     """m from the forearm and hand (axes, elbow to fingertips) to the gripper's capsules over
     the arm's move from joint angles `start` to the hand's middle at `point` (a straight line
-    in joint space, as the actor moves)."""
+    in joint space, as the actor moves, to the goal it moves to: within the joint limits, where
+    an elbow folded past its limit ends the move elsewhere, along another way)."""
     if not gripper:
         return math.inf
-    goal = reaching_arm_angles(point - body.shoulder(arm), body)
+    goal = target_posture(body, Action(REACHES[0], 0.0, None, point, arm))[arm_joint_indices(arm)]
     limbs = []
     for joints in arm_move_points(body, arm, start, goal, PATH_SAMPLES):
         limbs.append(_samples(joints["elbow"], joints["wrist"]))

@@ -8,15 +8,17 @@ import pytest
 from pydrake.math import RigidTransform
 from pydrake.multibody.math import SpatialVelocity
 from pydrake.systems.analysis import Simulator
+from scipy.spatial.distance import cdist
 
-from hsr_handover.world.person.aiming import arm_points, reaching_arm_angles
-from hsr_handover.world.person.behavior import rest_posture
-from hsr_handover.world.person.body import BodyDimensions, arm_joint_indices
+from hsr_handover.world.person.aiming import arm_move_points, arm_points, reaching_arm_angles
+from hsr_handover.world.person.behavior import joint_limits, rest_posture
+from hsr_handover.world.person.body import ARM_JOINT_SUFFIXES, BodyDimensions, arm_joint_indices
 from hsr_handover.world.person.receiving import (
     ARRIVED,
     CLEAR,
     DRAW_IN_S,
     GRIP_DISTANCE,
+    PATH_SAMPLES,
     REACH_SHORT,
     SETTLE_AFTER_S,
     STILL_S,
@@ -144,6 +146,30 @@ def test_the_way_there_counts_not_only_the_end():
     ends_clear = min(np.linalg.norm(end[k] - halfway) for k in ("elbow", "wrist", "tips"))
     assert ends_clear > CLEAR + 0.03
     assert path_clearance(BODY, "right", REST_ARM, straight, [finger]) < CLEAR
+
+
+def test_the_way_checked_is_the_way_the_arm_moves_within_its_joint_limits():
+    # A point so near the shoulder that the elbow would fold past its limit: the arm moves to
+    # the limit instead, along another way, and a finger on that way is in the way of the
+    # reach, though the way the angles alone would take passes 4 cm clear of it.
+    near = SHOULDER + [0.05, -0.05, -0.05]
+    unlimited = reaching_arm_angles(near - SHOULDER, BODY)
+    limits = np.array([joint_limits("r_" + suffix) for suffix in ARM_JOINT_SUFFIXES]).T
+    limited = np.clip(unlimited, *limits)
+    assert np.flatnonzero(limited != unlimited).tolist() == [3]  # the elbow alone
+    way, unlimited_way = _swept_axes(limited), _swept_axes(unlimited)
+    apart = cdist(way, unlimited_way).min(axis=1)
+    on_way = way[np.argmax(apart)]
+    finger = (on_way - [0, 0, 0.01], on_way + [0, 0, 0.01], 0.01)
+    unlimited_clearance = cdist(unlimited_way, np.array(finger[:2])).min() - finger[2]
+    assert path_clearance(BODY, "right", REST_ARM, near, [finger]) < 0.0
+    assert unlimited_clearance > 0.04
+
+
+def _swept_axes(goal: np.ndarray) -> np.ndarray:
+    """Points along the forearm's and hand's axes over the move from rest to `goal`."""
+    moves = arm_move_points(BODY, "right", REST_ARM, goal, PATH_SAMPLES)
+    return np.concatenate([np.linspace(joints["elbow"], joints["tips"], 30) for joints in moves])
 
 
 def test_a_person_who_does_not_take_never_reaches():
