@@ -28,7 +28,7 @@ ARM_MOVING = "arm still moving"
 NOTHING_POINTED_AT = "pointing at nothing"
 NO_FACE = "unsure: face not seen"
 GAZE_ELSEWHERE = "looking elsewhere"
-ARM_NOT_RAISED = "arm not raised to point"  # a correction's arm that has not moved: `WristTrail`
+ARM_NOT_RAISED = "arm not raised to point"  # an arm that has not just moved: `WristTrail`
 POINTING = "pointing"
 RECOGNISED = "recognised"
 

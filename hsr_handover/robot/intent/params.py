@@ -20,7 +20,7 @@ _RANGES = {  # (low, high, unit, whether low itself is allowed)
     "bent_gap_s": (0.0, 10.0, "s", True), "pitch_smoothing_s": (0.0, 10.0, "s", True),
     "correction_gaze_tolerance_deg": (0.0, 90.0, "deg", False),
     "correction_below_deg": (0.0, 90.0, "deg", False),
-    "correction_rise_m": (0.0, 1.0, "m", True), "correction_rise_s": (0.0, 10.0, "s", False),
+    "rise_m": (0.0, 1.0, "m", True), "rise_s": (0.0, 10.0, "s", False),
 }  # fmt: skip
 
 
@@ -81,13 +81,15 @@ class IntentParams:
     correction_below_deg: how far (deg) the eyes may look below the object a correction asks
     for: a hand held out to receive is a straight arm toward the table, and the eyes on it
     look 14-16 degrees below the objects beyond.
-    correction_rise_m, correction_rise_s: a correction is a new gesture, its wrist come at
-    least `correction_rise_m` (m) to where it points from within the last `correction_rise_s`
-    (s) when its dwell starts (`WristTrail`): an arm held out to receive, or resting toward
-    the table, reads straight now and then but has not moved. The arm rises from rest or from
+    rise_m, rise_s: a request, and a correction, is a new gesture: its wrist come at least
+    `rise_m` (m) to where it points from within the last `rise_s` (s) when its dwell starts
+    (`WristTrail`). An arm held out to receive, or resting on the table, reads straight now
+    and then but has not moved (a seated person's forearm lying toward the camera reads
+    straight at a cup while the eyes rest on another). The arm rises from rest or from
     holding out, 10-30 cm; the held-out arm's filtered wrist wanders 5 cm. The window is
     shorter than the time from the person holding a hand out (at most 6 s after the pointing's
-    onset) to the watch waking (once the robot lifts, about 8 s or more after it).
+    onset) to the watch waking (once the robot lifts, about 8 s or more after it). A person
+    the robot finds already pointing is read once they point again.
     track_keypoints: follow each keypoint over time before reading the rays
     (`robot.perception.keypoint_filter`: smoothed, outliers and swapped arms rejected, short
     misses bridged).
@@ -111,8 +113,8 @@ class IntentParams:
     bent_gap_s: float = 0.2
     correction_gaze_tolerance_deg: float = 24.0
     correction_below_deg: float = 10.0
-    correction_rise_m: float = 0.08
-    correction_rise_s: float = 2.0
+    rise_m: float = 0.08
+    rise_s: float = 2.0
     track_keypoints: bool = True
 
     def __post_init__(self) -> None:

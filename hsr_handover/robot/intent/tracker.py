@@ -106,7 +106,7 @@ class IntentTracker:
         self._shoulders = SteadyFacing()
         self._correcting = _CorrectionWatch()
         self._objects: dict[str, np.ndarray] = {}  # each candidate where last seen
-        self._wrists = WristTrail(self.params.correction_rise_m, self.params.correction_rise_s)
+        self._wrists = WristTrail(self.params.rise_m, self.params.rise_s)
         self._correction_params = dataclasses.replace(
             self.params, gaze_tolerance_deg=self.params.correction_gaze_tolerance_deg
         )
@@ -184,6 +184,7 @@ class IntentTracker:
                 dataclasses.replace(state, frame=frame), time, observed, candidates
             )
             return self.state_
+        frame = self._raised(frame, state.candidate, observed)
         candidate, since = _dwell(state.candidate, state.candidate_since, frame, time)
         target, recognised = None, math.nan
         if self._dwelt(candidate, since, frame, time):
@@ -202,6 +203,18 @@ class IntentTracker:
         level = gaze_ray(face, observed.forward, self.params)
         below = -pitch_errors_deg(level, center[None])[0]
         return below > self.params.correction_below_deg
+
+    def _raised(
+        self, frame: FrameJudgement, dwelling: str | None, observed: Observation | None
+    ) -> FrameJudgement:
+        """`frame`, or nothing asked for in it (ARM_NOT_RAISED) when it would start a dwell on
+        another object than `dwelling` with an arm whose wrist has not just risen to where it
+        points: a request is a gesture, and a forearm lying on the table toward the camera
+        reads straight at a cup while the eyes rest on one."""
+        new = frame.candidate is not None and frame.candidate != dwelling
+        if new and observed is not None and not self._rose(observed):
+            return dataclasses.replace(frame, candidate=None, status=ARM_NOT_RAISED)
+        return frame
 
     def _rose(self, observed: Observation) -> bool:
         """Whether the pointing arm's wrist has just risen to where it is (a new gesture)."""
@@ -241,8 +254,8 @@ class IntentTracker:
         asked = None if frame.candidate is None else dict(others)[frame.candidate]
         if asked is not None and self._below(observed, asked):
             frame = dataclasses.replace(frame, candidate=None, status=GAZE_ELSEWHERE)
-        elif asked is not None and frame.candidate != watch.candidate and not self._rose(observed):
-            frame = dataclasses.replace(frame, candidate=None, status=ARM_NOT_RAISED)
+        else:
+            frame = self._raised(frame, watch.candidate, observed)
         candidate, since = _dwell(watch.candidate, watch.since, frame, time)
         self._correcting = dataclasses.replace(watch, candidate=candidate, since=since)
         if not self._dwelt(candidate, since, frame, time):

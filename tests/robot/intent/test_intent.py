@@ -13,6 +13,7 @@ from hsr_handover.interface.coco18 import keypoint_index
 from hsr_handover.robot.intent import IntentParams, IntentTracker, Ray, elbow_angle_deg, face_normal
 from hsr_handover.robot.intent.judging import (
     ARM_MOVING,
+    ARM_NOT_RAISED,
     GAZE_ELSEWHERE,
     NO_CANDIDATES,
     NO_FACE,
@@ -278,6 +279,16 @@ def test_without_a_face_the_frame_is_unsure():
     assert no_elbow.status == NO_POINTING
 
 
+def _watching(params: IntentParams) -> IntentTracker:
+    """A tracker that has watched the person sit at rest for 0.3 s before time 0, so that an arm
+    pointing from time 0 has just risen to point (a request is a gesture: `IntentParams.rise_m`)."""
+    tracker = IntentTracker(params)
+    resting, confidence = keypoints()
+    for time in np.arange(-0.3, 0.0, 1 / 30):
+        tracker.update(time, resting, confidence, CUPS)
+    return tracker
+
+
 def _frames(tracker, times, confidence_of=lambda t: None, target=1, look=None):
     label, center = CUPS[target]
     points, confidence = keypoints(look_at=center if look is None else look,
@@ -290,7 +301,7 @@ def _frames(tracker, times, confidence_of=lambda t: None, target=1, look=None):
 
 
 def test_the_dwell_recognises_after_t_max_and_latches():
-    tracker = IntentTracker(IntentParams(t_max=0.5))
+    tracker = _watching(IntentParams(t_max=0.5))
     states = _frames(tracker, np.arange(0.0, 1.0, 1 / 30))
     recognised = [s for s in states if s.target is not None]
     # The dwell starts once the arm is known to hold still (RaySmoother.MIN_FRAMES frames).
@@ -305,7 +316,7 @@ def test_the_dwell_recognises_after_t_max_and_latches():
 def test_a_copy_of_the_tracker_goes_on_alone():
     """Drake copies the tracker (the system's state) at every frame: what the copy sees must
     not reach the original, which goes on as if never copied."""
-    original, untouched = (IntentTracker(IntentParams(t_max=0.5)) for _ in range(2))
+    original, untouched = (_watching(IntentParams(t_max=0.5)) for _ in range(2))
     for tracker in (original, untouched):
         _frames(tracker, np.arange(0.0, 0.2, 1 / 30), target=0)
     copied = copy.deepcopy(original)
@@ -324,7 +335,7 @@ def test_a_copy_of_the_tracker_goes_on_alone():
 def test_face_less_frames_neither_start_nor_finish_but_do_not_break_a_dwell():
     _, confidence = keypoints()
     faceless = _without(confidence, "r_eye")
-    tracker = IntentTracker(IntentParams(t_max=0.3))
+    tracker = _watching(IntentParams(t_max=0.3))
     # The face is missing for the first 0.2 s: no dwell starts.
     states = _frames(tracker, np.arange(0.0, 0.2, 0.05), lambda t: faceless)
     assert all(s.candidate is None for s in states)
@@ -344,9 +355,9 @@ def test_changing_the_request_restarts_the_dwell():
 
 
 def test_looking_elsewhere_breaks_the_dwell():
-    tracker = IntentTracker(IntentParams(t_max=0.3, smoothing_s=0.0))
+    tracker = _watching(IntentParams(t_max=0.3, smoothing_s=0.0))
     _frames(tracker, [0.0, 0.1, 0.2], target=0)
-    broken = _frames(tracker, [0.25], target=0, look=CUPS[2][1])[0]
+    broken = _frames(tracker, [0.25], target=0, look=CUPS[2][1] + [0.0, 0.3, 0.0])[0]
     assert broken.candidate is None
     assert broken.frame.status in (GAZE_ELSEWHERE, NOTHING_POINTED_AT)
     states = _frames(tracker, [0.3, 0.4, 0.5, 0.6], target=0)
@@ -379,7 +390,7 @@ def test_smoothing_steadies_a_noisy_face():
     face = [keypoint_index(name) for name in ("nose", "r_eye", "l_eye")]
 
     def recognised(smoothing_s: float) -> bool:
-        tracker = IntentTracker(IntentParams(t_max=0.5, smoothing_s=smoothing_s))
+        tracker = _watching(IntentParams(t_max=0.5, smoothing_s=smoothing_s))
         for time in np.arange(0.0, 1.5, 1 / 30):
             noisy = points.copy()
             noisy[face] += rng.normal(0.0, 0.01, (3, 3))
@@ -488,11 +499,12 @@ def test_the_chests_facing_outranks_the_shoulders():
 
 @pytest.mark.parametrize("rate_hz", [30.0, 5.0])
 def test_a_held_arm_is_recognised_at_a_slow_camera_rate_too(rate_hz):
-    """At 5 Hz the 0.4 s window holds two frames: the hold is judged from those."""
-    tracker = IntentTracker(IntentParams(t_max=0.5, smoothing_s=0.4))
+    """At 5 Hz the 0.4 s window holds two frames: the hold is judged from those, a frame after
+    the arm has come to rest in them."""
+    tracker = _watching(IntentParams(t_max=0.5, smoothing_s=0.4))
     states = _frames(tracker, np.arange(0.0, 2.0, 1 / rate_hz))
     assert states[-1].target == "green"
-    assert states[-1].recognised_time <= 0.5 + 0.4 + 1e-9
+    assert states[-1].recognised_time <= 0.5 + 0.4 + 1 / rate_hz + 1e-9
 
 
 def _bent(points: np.ndarray, arm: str) -> np.ndarray:
@@ -511,7 +523,7 @@ def test_an_arm_that_reads_bent_for_a_frame_in_three_still_points_within_the_gap
     assert elbow_angle_deg(*bent[list(right)]) < IntentParams().straight_arm_deg - 10.0
 
     def recognised(gap: float) -> bool:
-        tracker = IntentTracker(IntentParams(t_max=0.5, smoothing_s=0.6, bent_gap_s=gap))
+        tracker = _watching(IntentParams(t_max=0.5, smoothing_s=0.6, bent_gap_s=gap))
         for frame, time in enumerate(np.arange(0.0, 2.0, 1 / 30)):
             seen = bent if frame % 3 == 2 else points
             state = tracker.update(time, seen, confidence, CUPS)
@@ -574,7 +586,7 @@ def _run(tracker, start, seconds, points, confidence, candidates=CUPS, rate=30.0
 
 def _recognised_green(params: IntentParams) -> tuple[IntentTracker, float]:
     """A tracker that has recognised the green cup (pointed at and looked at for 1.5 s)."""
-    tracker = IntentTracker(params)
+    tracker = _watching(params)
     points, confidence = keypoints(look_at=CUPS[1][1], point_with="right", point_at=CUPS[1][1])
     states, time = _run(tracker, 0.0, 1.5, points, confidence)
     assert states[-1].target == "green"
@@ -659,6 +671,21 @@ def test_a_correction_is_not_read_from_eyes_on_a_point_below_the_object():
     assert corrected(blue + [0.35, 0.0, -0.1]) is None  # nearer the person and lower: at the hand
 
 
+def test_a_request_is_an_arm_raised_to_point_not_one_that_lay_there_from_the_start():
+    """A forearm lying on the table toward a cup reads straight at it; with the eyes on that
+    cup from the first frame and the arm never moving, it is not a request. The same arm
+    raised to it from rest is one."""
+    params = IntentParams(t_max=0.3)
+    points, confidence = keypoints(look_at=CUPS[0][1], point_with="right", point_at=CUPS[0][1])
+    lying = IntentTracker(params)
+    states, _ = _run(lying, 0.0, 3.0, points, confidence)
+    assert all(state.target is None and state.candidate is None for state in states)
+    assert states[-1].frame.status == ARM_NOT_RAISED
+    raised = _watching(params)
+    states, _ = _run(raised, 0.0, 1.5, points, confidence)
+    assert states[-1].target == "red"
+
+
 def test_a_correction_is_a_new_gesture_not_an_arm_that_stays_where_it_is():
     """An arm held out to receive, its elbow angle flickering across the straight threshold,
     reads as pointing now and then but has not moved (a short person's held-out arm toward the
@@ -672,7 +699,7 @@ def test_a_correction_is_a_new_gesture_not_an_arm_that_stays_where_it_is():
 
     def corrected(before: np.ndarray) -> str | None:
         tracker, time = _recognised_green(params)
-        waited = params.smoothing_s + params.correction_rise_s  # the arm off green for long
+        waited = params.smoothing_s + params.rise_s  # the arm off green for long
         _, time = _run(tracker, time, waited, before, confidence)
         states, _ = _run(tracker, time, 2.0, points, confidence)
         return states[-1].correction

@@ -19,6 +19,12 @@ from hsr_handover.robot.systems.intent_estimator import IntentEstimator
 from tests.robot.intent.synthetic_person import CUPS, keypoints
 
 
+def _params(**values) -> IntentParams:
+    """The recogniser's params for a person who points from the first frame: no rise to it is
+    asked for (`IntentParams.rise_m`; the tracker's own tests show the rise)."""
+    return IntentParams(rise_m=0.0, **values)
+
+
 def _inputs(target: int = 2):
     points, confidence = keypoints(look_at=CUPS[target][1], point_with="left",
                                    point_at=CUPS[target][1])  # fmt: skip
@@ -46,7 +52,7 @@ def _run(system, until: float, support=None, image_time=None, skeleton=None, wat
 
 
 def test_recognises_after_the_dwell_from_its_own_frames():
-    system = IntentEstimator(period=0.1, params=IntentParams(t_max=0.3, smoothing_s=0.4))
+    system = IntentEstimator(period=0.1, params=_params(t_max=0.3, smoothing_s=0.4))
     unsure, _ = _run(system, 0.15)  # two frames: too few to tell a held arm from a sweep
     assert unsure.candidate is None and unsure.frame.status == ARM_MOVING
     early, _ = _run(system, 0.45)
@@ -61,7 +67,7 @@ def test_recognises_after_the_dwell_from_its_own_frames():
 
 
 def test_it_judges_no_frame_while_the_robot_is_not_watching():
-    system = IntentEstimator(period=0.1, params=IntentParams(t_max=0.3, smoothing_s=0.4))
+    system = IntentEstimator(period=0.1, params=_params(t_max=0.3, smoothing_s=0.4))
     resting, (pointing, gaze) = _run(system, 0.7, watching=0.0)
     assert resting.target is None and resting.candidate is None
     assert pointing is None and gaze is None
@@ -72,7 +78,7 @@ def test_it_judges_no_frame_while_the_robot_is_not_watching():
 def test_the_skeletons_chest_facing_is_the_torso_the_gaze_turns_from():
     """The eyes' direction is the torso's plus head_gain x the face's turn from it: turning
     the chest by d (the shoulders unchanged) turns the estimated gaze by -(head_gain - 1) d."""
-    params = IntentParams(t_max=0.3, smoothing_s=0.4)
+    params = _params(t_max=0.3, smoothing_s=0.4)
     points, confidence = keypoints(look_at=CUPS[2][1])  # looking, no arm raised
     skeleton = Skeleton(np.zeros((18, 2)), points, confidence)
     turn = 0.1
@@ -87,13 +93,13 @@ def test_the_skeletons_chest_facing_is_the_torso_the_gaze_turns_from():
 
 
 def test_the_capture_time_times_the_dwell_when_connected():
-    system = IntentEstimator(period=0.1, params=IntentParams(t_max=0.0))
+    system = IntentEstimator(period=0.1, params=_params(t_max=0.0))
     intent, _ = _run(system, 0.35, image_time=7.0)
     assert intent.recognised_time == 7.0
 
 
 def test_only_detections_the_map_confirms_are_candidates():
-    system = IntentEstimator(period=0.1, params=IntentParams(t_max=0.3))
+    system = IntentEstimator(period=0.1, params=_params(t_max=0.3))
     support = tuple(DetectionSupport(label, 0 if label == "blue" else 5, 0, label != "blue")
                     for label, _ in CUPS)  # fmt: skip
     intent, _ = _run(system, 0.6, support=support)
