@@ -19,7 +19,7 @@ from collections.abc import Sequence
 import numpy as np
 from scipy.spatial.distance import cdist
 
-from hsr_handover.world.person.aiming import arm_move_points
+from hsr_handover.world.person.aiming import arm_move_points, arm_points
 from hsr_handover.world.person.behavior import REACHES, Action, rest_posture, target_posture
 from hsr_handover.world.person.body import (
     HAND_THICKNESS,
@@ -243,14 +243,17 @@ def reach_point(
     """Where the hand's middle goes to take the object at `centre` (person frame): REACH_SHORT
     short of it, from the first side (TILTS_DEG, then TURNS_DEG, from straight at the
     shoulder) whose move there from the arm's `start` angles (the rest posture's if None)
-    keeps the forearm and hand CLEAR of the robot's `gripper`; the clearest when none does."""
+    keeps the forearm and hand CLEAR of the robot's `gripper` and ends within GRIP_DISTANCE of
+    the object (an object held near the shoulder asks the elbow past its limit, and the arm
+    stopped there may end too far to close on it); else the clearest that ends within it;
+    else the clearest."""
     if start is None:
         start = rest_posture(body)[arm_joint_indices(arm)]
     shoulder = body.shoulder(arm)
     toward = (shoulder - centre) / np.linalg.norm(shoulder - centre)
     heading = math.atan2(toward[1], toward[0])
     level = math.asin(float(np.clip(toward[2], -1.0, 1.0)))
-    best: tuple[float, np.ndarray] | None = None
+    tried = []
     for tilt in np.radians(TILTS_DEG):
         for turn in np.radians(TURNS_DEG):
             elevation, bearing = level + tilt, heading + turn
@@ -258,11 +261,18 @@ def reach_point(
             side = [flat * math.cos(bearing), flat * math.sin(bearing), math.sin(elevation)]
             point = centre + REACH_SHORT * np.array(side)
             clearance = path_clearance(body, arm, start, point, gripper)
-            if clearance >= CLEAR:
+            ends = arm_points(body, arm, _arm_goal(body, arm, point))["hand"]
+            grips = bool(np.linalg.norm(ends - centre) <= GRIP_DISTANCE)
+            if clearance >= CLEAR and grips:
                 return point
-            if best is None or clearance > best[0]:
-                best = (clearance, point)
-    return best[1]
+            tried.append((grips, clearance, -len(tried), point))
+    return max(tried, key=lambda each: each[:3])[3]
+
+
+def _arm_goal(body: BodyDimensions, arm: str, point: np.ndarray) -> np.ndarray:
+    """The arm's joint angles the actor moves to for the hand's middle at `point`: within the
+    joint limits (`target_posture`), where the hand may end short of the point."""
+    return target_posture(body, Action(REACHES[0], 0.0, None, point, arm))[arm_joint_indices(arm)]
 
 
 def path_clearance(
@@ -278,7 +288,7 @@ def path_clearance(
     an elbow folded past its limit ends the move elsewhere, along another way)."""
     if not gripper:
         return math.inf
-    goal = target_posture(body, Action(REACHES[0], 0.0, None, point, arm))[arm_joint_indices(arm)]
+    goal = _arm_goal(body, arm, point)
     limbs = []
     for joints in arm_move_points(body, arm, start, goal, PATH_SAMPLES):
         limbs.append(_samples(joints["elbow"], joints["wrist"]))

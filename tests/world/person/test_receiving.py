@@ -148,6 +148,24 @@ def test_the_way_there_counts_not_only_the_end():
     assert path_clearance(BODY, "right", REST_ARM, straight, [finger]) < CLEAR
 
 
+def test_an_object_held_beside_the_shoulder_is_reached_from_a_side_the_hand_gets_to():
+    """Straight from the shoulder the elbow would fold past its limit, and the arm stopped
+    there ends too far from the object to close on it: the hand comes from a side it reaches."""
+    near = SHOULDER + [0.1, -0.1, 0.0]
+    toward = (SHOULDER - near) / np.linalg.norm(SHOULDER - near)
+    straight = near + REACH_SHORT * toward
+    assert np.linalg.norm(_hand_at_limits(straight) - near) > GRIP_DISTANCE
+    point = reach_point(BODY, "right", near)
+    assert np.linalg.norm(_hand_at_limits(point) - near) <= GRIP_DISTANCE
+
+
+def _hand_at_limits(point: np.ndarray) -> np.ndarray:
+    """Where the right hand's middle ends, reaching for `point` within the joint limits."""
+    unlimited = reaching_arm_angles(point - SHOULDER, BODY)
+    limits = np.array([joint_limits("r_" + suffix) for suffix in ARM_JOINT_SUFFIXES]).T
+    return arm_points(BODY, "right", np.clip(unlimited, *limits))["hand"]
+
+
 def test_the_way_checked_is_the_way_the_arm_moves_within_its_joint_limits():
     # A point so near the shoulder that the elbow would fold past its limit: the arm moves to
     # the limit instead, along another way, and a finger on that way is in the way of the
