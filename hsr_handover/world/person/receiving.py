@@ -253,7 +253,7 @@ def reach_point(
     toward = (shoulder - centre) / np.linalg.norm(shoulder - centre)
     heading = math.atan2(toward[1], toward[0])
     level = math.asin(float(np.clip(toward[2], -1.0, 1.0)))
-    tried = []
+    tried: list[tuple[bool, float, int, np.ndarray]] = []  # (grips, clearance, -order, point)
     for tilt in np.radians(TILTS_DEG):
         for turn in np.radians(TURNS_DEG):
             elevation, bearing = level + tilt, heading + turn
