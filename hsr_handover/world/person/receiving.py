@@ -260,8 +260,9 @@ def reach_point(
             flat = math.cos(elevation)
             side = [flat * math.cos(bearing), flat * math.sin(bearing), math.sin(elevation)]
             point = centre + REACH_SHORT * np.array(side)
-            clearance = path_clearance(body, arm, start, point, gripper)
-            ends = arm_points(body, arm, _arm_goal(body, arm, point))["hand"]
+            goal = _arm_goal(body, arm, point)
+            clearance = _move_clearance(body, arm, start, goal, gripper)
+            ends = arm_points(body, arm, goal)["hand"]
             grips = bool(np.linalg.norm(ends - centre) <= GRIP_DISTANCE)
             if clearance >= CLEAR and grips:
                 return point
@@ -286,9 +287,19 @@ def path_clearance(
     the arm's move from joint angles `start` to the hand's middle at `point` (a straight line
     in joint space, as the actor moves, to the goal it moves to: within the joint limits, where
     an elbow folded past its limit ends the move elsewhere, along another way)."""
+    return _move_clearance(body, arm, start, _arm_goal(body, arm, point), gripper)
+
+
+def _move_clearance(
+    body: BodyDimensions,
+    arm: str,
+    start: np.ndarray,
+    goal: np.ndarray,
+    gripper: Sequence[Capsule],
+) -> float:
+    """`path_clearance` over the move from joint angles `start` to `goal`."""
     if not gripper:
         return math.inf
-    goal = _arm_goal(body, arm, point)
     limbs = []
     for joints in arm_move_points(body, arm, start, goal, PATH_SAMPLES):
         limbs.append(_samples(joints["elbow"], joints["wrist"]))

@@ -161,9 +161,14 @@ def test_an_object_held_beside_the_shoulder_is_reached_from_a_side_the_hand_gets
 
 def _hand_at_limits(point: np.ndarray) -> np.ndarray:
     """Where the right hand's middle ends, reaching for `point` within the joint limits."""
-    unlimited = reaching_arm_angles(point - SHOULDER, BODY)
+    angles = _within_limits(reaching_arm_angles(point - SHOULDER, BODY))
+    return arm_points(BODY, "right", angles)["hand"]
+
+
+def _within_limits(angles: np.ndarray) -> np.ndarray:
+    """The right arm's joint `angles` clipped to the person's joint limits."""
     limits = np.array([joint_limits("r_" + suffix) for suffix in ARM_JOINT_SUFFIXES]).T
-    return arm_points(BODY, "right", np.clip(unlimited, *limits))["hand"]
+    return np.clip(angles, *limits)
 
 
 def test_the_way_checked_is_the_way_the_arm_moves_within_its_joint_limits():
@@ -172,8 +177,7 @@ def test_the_way_checked_is_the_way_the_arm_moves_within_its_joint_limits():
     # reach, though the way the angles alone would take passes 4 cm clear of it.
     near = SHOULDER + [0.05, -0.05, -0.05]
     unlimited = reaching_arm_angles(near - SHOULDER, BODY)
-    limits = np.array([joint_limits("r_" + suffix) for suffix in ARM_JOINT_SUFFIXES]).T
-    limited = np.clip(unlimited, *limits)
+    limited = _within_limits(unlimited)
     assert np.flatnonzero(limited != unlimited).tolist() == [3]  # the elbow alone
     way, unlimited_way = _swept_axes(limited), _swept_axes(unlimited)
     apart = cdist(way, unlimited_way).min(axis=1)
