@@ -29,6 +29,7 @@ NOTHING_POINTED_AT = "pointing at nothing"
 NO_FACE = "unsure: face not seen"
 GAZE_ELSEWHERE = "looking elsewhere"
 ARM_NOT_RAISED = "arm not raised to point"  # an arm that has not just moved: `WristTrail`
+ASKS_FOR_TARGET = "asking for the object fetched"  # a reach for it, not a correction
 POINTING = "pointing"
 RECOGNISED = "recognised"
 

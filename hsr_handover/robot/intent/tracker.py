@@ -34,6 +34,7 @@ import numpy as np
 
 from hsr_handover.robot.intent.judging import (
     ARM_NOT_RAISED,
+    ASKS_FOR_TARGET,
     GAZE_ELSEWHERE,
     NO_SKELETON,
     RECOGNISED,
@@ -234,7 +235,10 @@ class IntentTracker:
     ) -> IntentState:
         """`state` with a correction, once a new gesture has asked for another object than the
         target for `t_max`, its wrist risen to where it points when the dwell starts and the
-        eyes no more than `correction_below_deg` below the object."""
+        eyes no more than `correction_below_deg` below the object. The target is judged with
+        the others: a person reaching for the object fetched, held up within their reach, is
+        not asking for its neighbour (the eyes on it lie within the correction's wide gaze
+        tolerance of the object beside it)."""
         watch = self._correcting
         if state.correction is not None:
             return state
@@ -247,12 +251,13 @@ class IntentTracker:
                 watch = _CorrectionWatch(watch.free_since, armed=True)
             self._correcting = watch
             return state
-        others = [(label, center) for label, center in candidates if label != state.target]
-        if observed is None or not others:
+        if observed is None:
             return state
-        frame = judge(observed, others, self._correction_params)
-        asked = None if frame.candidate is None else dict(others)[frame.candidate]
-        if asked is not None and self._below(observed, asked):
+        frame = judge(observed, candidates, self._correction_params)
+        asked = None if frame.candidate is None else dict(candidates)[frame.candidate]
+        if frame.candidate == state.target:
+            frame = dataclasses.replace(frame, candidate=None, status=ASKS_FOR_TARGET)
+        elif asked is not None and self._below(observed, asked):
             frame = dataclasses.replace(frame, candidate=None, status=GAZE_ELSEWHERE)
         else:
             frame = self._raised(frame, watch.candidate, observed)

@@ -15,6 +15,11 @@ import numpy as np
 
 from hsr_handover.robot.intent.person_rays import ARMS
 
+RISEN_FRAMES = 3
+"""Frames of the window in which the wrist must have been `rise_m` or more from where it is
+now: the detector swaps the arms for a frame or two, putting a resting wrist 40 cm off, and a
+real rise from rest takes a second of frames."""
+
 
 class WristTrail:
     """Where each wrist has been over the last `window_s` seconds (m, world; NaN where
@@ -36,10 +41,10 @@ class WristTrail:
 
     def rose(self, arm: str) -> bool:
         """Whether the `arm`'s wrist ("right" or "left"), where last seen, was at least
-        `rise_m` from there at some moment of the window."""
+        `rise_m` from there in RISEN_FRAMES frames of the window."""
         side = list(ARMS).index(arm)
         seen = [wrists[side] for _, wrists in self._trail if np.isfinite(wrists[side]).all()]
         if not seen:
             return False
         travel = np.linalg.norm(np.array(seen) - seen[-1], axis=1)
-        return bool(travel.max() >= self.rise_m)
+        return bool(np.count_nonzero(travel >= self.rise_m) >= RISEN_FRAMES)

@@ -723,3 +723,20 @@ def test_eyes_that_may_be_on_the_object_held_do_not_refuse_a_new_gesture():
     points, confidence = keypoints(look_at=blue, point_with="right", point_at=blue)
     states, _ = _run(tracker, time, 2.0, points, confidence, candidates=held)
     assert states[-1].correction == "blue"
+
+
+def test_a_gesture_at_the_object_held_is_a_reach_for_it_not_a_correction():
+    """The object fetched, held up in front of the one beside it, is what the person reaches
+    for: the arm and the eyes on it are not a request for its neighbour, which lies within
+    the correction's wide gaze tolerance of the eyes."""
+    params = IntentParams(t_max=0.5, face_tilt_deg=TRUE_FACE_TILT)
+    blue = CUPS[2][1]
+    resting, confidence = keypoints(look_at=blue)
+    eyes = (resting[R_EYE] + resting[L_EYE]) / 2
+    held_at = eyes + 0.8 * (blue - eyes) + [0.0, 0.08, 0.1]
+    held = [("green", held_at), CUPS[2]]
+    tracker, time = _recognised_green(params)
+    _, time = _run(tracker, time, params.smoothing_s + 0.5, resting, confidence, held)
+    points, confidence = keypoints(look_at=held_at, point_with="left", point_at=held_at)
+    states, _ = _run(tracker, time, 2.0, points, confidence, candidates=held)
+    assert all(state.correction is None for state in states)

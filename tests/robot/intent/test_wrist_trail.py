@@ -29,7 +29,8 @@ def test_a_wrist_that_travelled_the_rise_within_the_window_rose():
 
 def test_the_rise_is_forgotten_once_older_than_the_window():
     trail = WristTrail(rise_m=0.08, window_s=2.0)
-    trail.add(0.0, *_frame((1.4, -0.2, 1.0)))
+    for time in (0.0, 0.1, 0.2):
+        trail.add(time, *_frame((1.4, -0.2, 1.0)))
     trail.add(0.5, *_frame((1.2, -0.2, 1.0)))
     assert trail.rose("right")
     trail.add(2.4, *_frame((1.21, -0.2, 1.0)))  # held there since 0.5 s
@@ -46,3 +47,17 @@ def test_a_wander_below_the_rise_is_not_a_rise_and_unseen_wrists_do_not_count():
     trail.add(1.6, *_frame((0.0, 0.0, 0.0), seen=(False, True)))  # unseen: not at the origin
     assert not trail.rose("right")
     assert not WristTrail(0.08, 2.0).rose("left")  # never seen
+
+
+def test_one_frame_with_the_arms_swapped_is_not_a_rise():
+    """The detector puts a resting right wrist on the left one for a frame, 40 cm across: the
+    wrist has not moved; a rise takes frames."""
+    trail = WristTrail(rise_m=0.08, window_s=2.0)
+    left = (1.0, 0.3, 0.8)
+    for k in range(20):
+        right = left if k == 5 else (1.0, -0.1, 0.8)
+        trail.add(0.05 * k, *_frame(right, left))
+    assert not trail.rose("right")
+    for k in range(20, 23):  # now it really rises, for three frames
+        trail.add(0.05 * k, *_frame((1.2, -0.1, 0.9), left))
+    assert trail.rose("right")
