@@ -9,7 +9,7 @@ Two modes, decided from the lifted skeleton alone:
 - **Framing**: a person seen. The head aims the camera so its field of view holds, in this
   order, what attention selects (the face, the hand or an object: paper 3.2; fixated, the
   axis as near it as the rest allows), the person's face, where an arm held out points on the
-  table (`pointed_at`: the robot looks where the person points, so an object outside its view
+  table (`pointed_at`: the robot looks where a straight arm points, so an object outside its view
   is seen once asked for), their hands and the objects on the table (where last seen: they
   stay put while the camera looks away). Each wants the optical axis within an interval of
   heading and elevation; the intervals are intersected in that order, one that would leave
@@ -35,6 +35,7 @@ import numpy as np
 
 from hsr_handover.interface.coco18 import keypoint_index
 from hsr_handover.interface.pinhole import PinholeCamera
+from hsr_handover.robot.intent.rays import elbow_angle_deg
 from hsr_handover.robot.perception.attention import FACE, LEFT_ARM, RIGHT_ARM
 
 SEARCH_FIXATIONS = ((0.0, 0.2), (0.6, 0.2), (-0.6, 0.2), (1.2, 0.1), (-1.2, 0.1), (0.0, -0.3))
@@ -47,6 +48,11 @@ WRISTS = (keypoint_index("r_wrist"), keypoint_index("l_wrist"))
 HELD_OUT = 0.3
 """m a wrist is held out from its shoulder, horizontally, for its arm to count as pointing (a
 seated person's resting forearms hold it 0.2-0.3 m out; a pointing arm, 0.4-0.6)."""
+POINTING_ELBOW_DEG = 135.0
+"""deg (eq. 16's elbow angle) from which an arm held out counts as pointing: a forearm resting
+on the table, held 0.3-0.5 m out, bends 80-105 degrees; a pointing arm reads 140-180 through
+the detector's error. An arm whose elbow is not seen does not count: the camera is not turned
+on a guess."""
 POINTED_AHEAD = 0.6
 """m beyond the wrist the object pointed at is taken to be: objects on the table between the
 person and the robot lie 0.3-0.9 m beyond a pointing wrist, and the camera's width takes in
@@ -174,14 +180,16 @@ def face_estimate(points: np.ndarray, confidence: np.ndarray) -> np.ndarray | No
 
 
 def pointed_at(points: np.ndarray, confidence: np.ndarray, level: float) -> np.ndarray | None:
-    """Where on the table the arm held out farthest (HELD_OUT or more) points: POINTED_AHEAD
-    beyond its wrist along the shoulder-to-wrist heading, at the objects' `level` (m, world);
-    None when no arm is held out over it. The heading alone is taken: lifted, the wrist lands
-    on the hand's surface a few cm low, and the line through it dips to the table 30 cm
-    short of the object pointed at."""
+    """Where on the table the straight arm (POINTING_ELBOW_DEG) held out farthest (HELD_OUT or
+    more) points: POINTED_AHEAD beyond its wrist along the shoulder-to-wrist heading, at the
+    objects' `level` (m, world); None when no straight arm is held out over it. The heading
+    alone is taken: lifted, the wrist lands on the hand's surface a few cm low, and the line
+    through it dips to the table 30 cm short of the object pointed at."""
     best, best_reach = None, HELD_OUT
-    for shoulder, _, wrist in (RIGHT_ARM, LEFT_ARM):
-        if not (_seen(points, confidence, shoulder) and _seen(points, confidence, wrist)):
+    for shoulder, elbow, wrist in (RIGHT_ARM, LEFT_ARM):
+        if not all(_seen(points, confidence, i) for i in (shoulder, elbow, wrist)):
+            continue
+        if not elbow_angle_deg(*points[[shoulder, elbow, wrist]]) >= POINTING_ELBOW_DEG:
             continue
         along = (points[wrist] - points[shoulder])[:2]
         reach = float(np.hypot(*along))

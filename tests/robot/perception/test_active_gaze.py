@@ -36,11 +36,13 @@ def camera_rotation(pan: float, tilt: float) -> np.ndarray:
     return np.column_stack([right, down, forward])
 
 
-def skeleton(points: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """18 x 3 points and confidences with the named keypoints seen."""
+def skeleton(points: dict[str, np.ndarray | None]) -> tuple[np.ndarray, np.ndarray]:
+    """18 x 3 points and confidences with the named keypoints seen (those given None not)."""
     lifted = np.full((NUM_KEYPOINTS, 3), np.nan)
     confidence = np.zeros(NUM_KEYPOINTS)
     for name, point in points.items():
+        if point is None:  # not seen
+            continue
         lifted[keypoint_index(name)] = point
         confidence[keypoint_index(name)] = 0.9
     return lifted, confidence
@@ -193,11 +195,12 @@ def test_what_attention_selects_is_fixated_as_near_as_the_person_allows():
 
 
 def _seated_pointing_at(target: np.ndarray) -> dict:
-    """A seated person 1.7 m ahead, the right arm held out toward `target` (its wrist 0.45 m
-    out from the shoulder, lifted 3 cm low as on the hand's surface)."""
+    """A seated person 1.7 m ahead, the right arm held out straight toward `target` (its wrist
+    0.45 m out from the shoulder, lifted 3 cm low as on the hand's surface)."""
     person = {name: point - [0.0, 0.0, 0.55] for name, point in standing_person(1.7).items()}
     shoulder = person["r_shoulder"]
     toward = (target - shoulder) / np.linalg.norm(target - shoulder)
+    person["r_elbow"] = shoulder + 0.25 * toward
     person["r_wrist"] = shoulder + 0.5 * toward - [0.0, 0.0, 0.03]
     return person
 
@@ -214,6 +217,13 @@ def test_the_point_an_arm_points_at_lies_ahead_of_the_wrist_on_its_heading():
     assert heading @ ahead > 0.0
     resting = {**person, "r_wrist": shoulder + [-0.2, 0.0, -0.25]}  # forearm on the table
     assert pointed_at(*skeleton(resting), 0.77) is None
+    # A forearm lying on the table, held out as far as the pointing arm, the elbow bent square:
+    # no pointing; nor an arm whose elbow is not seen.
+    elbow = shoulder + [0.0, 0.0, -0.3]
+    bent = {**person, "r_elbow": elbow, "r_wrist": elbow + (person["r_wrist"] - elbow) * [1, 1, 0]}
+    assert np.hypot(*(bent["r_wrist"] - shoulder)[:2]) > 0.4
+    assert pointed_at(*skeleton(bent), 0.4) is None
+    assert pointed_at(*skeleton(person | {"r_elbow": None}), 0.77) is None
     assert pointed_at(*skeleton(person), 1.5) is None  # the wrist is not over that level
 
 
