@@ -33,9 +33,13 @@ class CorrectionWatch:
         intent: IntentState,
         skeleton: Skeleton,
         detections: DetectionResult,
+        held: np.ndarray | None = None,
     ) -> str | None:
         """Another object the person asks for at `time` (s) while the robot lifts or carries
-        one (None before it lifts, once it has heeded one, and while none is asked for)."""
+        one (None before it lifts, once it has heeded one, and while none is asked for).
+        `held`: where the hand holds the object fetched (m, world; from the robot's own
+        joints), which the camera loses as it carries it: a person reaching for it there is
+        not asking for what lies behind it."""
         if record.phase not in WATCHED_PHASES or record.first_target is not None:
             return None
         if self.tracker is None:
@@ -43,6 +47,8 @@ class CorrectionWatch:
         known = {label for label, _ in self.tracker.state_.objects}
         seen = [(d.label, d.center) for d in detections.detections
                 if d.label in known and np.all(np.isfinite(d.center))]  # fmt: skip
+        if held is not None and record.target in known:
+            seen = [item for item in seen if item[0] != record.target] + [(record.target, held)]
         state = self.tracker.update(
             time,
             skeleton.points,

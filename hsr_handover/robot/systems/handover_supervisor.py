@@ -243,9 +243,9 @@ class HandoverSupervisor(LeafSystem):
         detections = self._detections.Eval(context)
         side = record.receiving or RECEIVING_SIDES[0]
         arm = next((arm for arm in arms if arm.side == side), None)
-        correction = memory.correcting.update(time, record, intent, skeleton, detections)
         palm_pose = self._planner.palm_pose(q)
         palm = pads_centre(palm_pose)
+        correction = memory.correcting.update(time, record, intent, skeleton, detections, palm)
         commanded, _, _ = memory.machine.command(time)
         pull = 0.0 if commanded is None else np.linalg.norm(palm - self._planner.palm(commanded))
         wrist_force = palm_pose.rotation() @ self._wrench.Eval(context)[3:]

@@ -42,3 +42,26 @@ def test_lifting_a_gesture_at_another_object_is_a_correction():
 def test_no_correction_is_read_before_the_lift_or_after_one_was_heeded():
     assert set(_corrections(Phase.APPROACH)) == {None}
     assert set(_corrections(Phase.LIFT, first_target="red")) == {None}
+
+
+def test_a_reach_for_the_object_held_is_no_correction_for_the_one_behind_it():
+    """Carried toward the person, the green cup passes in front of the blue one as they see
+    it; they reach for it, eyes on it. Judged where the hand holds it (from the robot's own
+    joints), it is the object fetched; judged where it was last seen, on the table, the blue
+    cup behind the reach would be read as asked for."""
+    held = CUPS["blue"] + 0.4 * (keypoints()[0][0] - CUPS["blue"])  # toward the person's nose
+    reaching, confidence = keypoints(look_at=held, point_with="right", point_at=held)
+    resting, _ = keypoints(look_at=held)
+
+    def corrections(where: np.ndarray | None) -> set[str | None]:
+        watch = CorrectionWatch(IntentParams(face_tilt_deg=TRUE_FACE_TILT))
+        record = CycleRecord(phase=Phase.CARRY, target="green")
+        seen = set()
+        for step in range(40):
+            skeleton = Skeleton(np.zeros((18, 2)), resting if step < 15 else reaching, confidence)
+            time = 10.0 + 0.1 * step
+            seen.add(watch.update(time, record, RECOGNISED, skeleton, NOTHING_SEEN, where))
+        return seen
+
+    assert corrections(held) == {None}
+    assert corrections(None) == {None, "blue"}
