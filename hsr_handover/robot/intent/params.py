@@ -82,11 +82,11 @@ class IntentParams:
     for: a hand held out to receive is a straight arm toward the table, and the eyes on it
     look 14-16 degrees below the objects beyond.
     rise_m, rise_s: a request, and a correction, is a new gesture: its wrist come at least
-    `rise_m` (m) to where it points from within the last `rise_s` (s) when its dwell starts
-    (`WristTrail`). An arm held out to receive, or resting on the table, reads straight now
-    and then but has not moved (a seated person's forearm lying toward the camera reads
-    straight at a cup while the eyes rest on another). The arm rises from rest or from
-    holding out, 10-30 cm; the held-out arm's filtered wrist wanders 5 cm. The window is
+    `rise_m` (m) to where it points, and not back from it, from within the last `rise_s` (s)
+    when its dwell starts (`WristTrail`). An arm held out to receive, or resting on the table,
+    reads straight now and then but has not moved (a seated person's forearm lying toward the
+    camera reads straight at a cup while the eyes rest on another). The arm rises from rest
+    or from holding out, 10-30 cm; the held-out arm's filtered wrist wanders 5 cm. The window is
     shorter than the time from the person holding a hand out (at most 6 s after the pointing's
     onset) to the watch waking (once the robot lifts, about 8 s or more after it). A person
     the robot finds already pointing is read once they point again.

@@ -219,7 +219,9 @@ class IntentTracker:
 
     def _rose(self, observed: Observation) -> bool:
         """Whether the pointing arm's wrist has just risen to where it is (a new gesture)."""
-        return observed.arm is not None and self._wrists.rose(observed.arm)
+        if observed.arm is None or observed.pointing is None:
+            return False
+        return self._wrists.rose(observed.arm, observed.pointing.direction)
 
     def _dwelt(self, candidate: str | None, since: float, frame: FrameJudgement, time: float):
         """Whether `candidate` has been asked for `t_max` with the face seen now."""

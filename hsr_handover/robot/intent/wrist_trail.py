@@ -5,6 +5,8 @@ A person who asks again raises the arm from wherever it was (at rest, or held ou
 object) to point, the wrist travelling a forearm's length or more; an arm held out to receive
 stays still for seconds, its elbow angle flickering across eq. 16's threshold through the
 detector's error (a short person's held-out arm reads 137-156 degrees, a pointing one 165-179).
+A hand raised to point comes out toward the object, never back from it, while a resting wrist
+lifted from depth as the robot's camera moves can slip 10-20 cm back onto the lap behind it.
 """
 
 from __future__ import annotations
@@ -23,7 +25,8 @@ real rise from rest takes a second of frames."""
 
 class WristTrail:
     """Where each wrist has been over the last `window_s` seconds (m, world; NaN where
-    unseen), and whether one travelled `rise_m` to where it is now in that time."""
+    unseen), and whether one came `rise_m` to where it is now, not away from where it
+    points, in that time."""
 
     def __init__(self, rise_m: float, window_s: float):
         self.rise_m, self.window_s = rise_m, window_s
@@ -39,12 +42,14 @@ class WristTrail:
         while self._trail[0][0] < time - self.window_s:
             self._trail.popleft()
 
-    def rose(self, arm: str) -> bool:
-        """Whether the `arm`'s wrist ("right" or "left"), where last seen, was at least
-        `rise_m` from there in RISEN_FRAMES frames of the window."""
+    def rose(self, arm: str, toward: np.ndarray) -> bool:
+        """Whether the `arm`'s wrist ("right" or "left"), where last seen, lies at least
+        `rise_m` from where it was, and not back from it along `toward` (where the arm
+        points), in RISEN_FRAMES frames of the window."""
         side = list(ARMS).index(arm)
         seen = [wrists[side] for _, wrists in self._trail if np.isfinite(wrists[side]).all()]
         if not seen:
             return False
-        travel = np.linalg.norm(np.array(seen) - seen[-1], axis=1)
-        return bool(np.count_nonzero(travel >= self.rise_m) >= RISEN_FRAMES)
+        travel = seen[-1] - np.array(seen)
+        came = (np.linalg.norm(travel, axis=1) >= self.rise_m) & (travel @ toward >= 0.0)
+        return bool(np.count_nonzero(came) >= RISEN_FRAMES)
