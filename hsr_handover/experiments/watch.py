@@ -52,8 +52,10 @@ class Watched:
     def person_arm(self) -> HumanArm | None:
         """The receiving arm as last seen: now, or else in the latest view that showed both
         shoulders (of the watch's end, then of the look round: a person beside a moved table
-        can be out of view ahead); its frame faces the chest's facing voted over those views,
-        its size the median over them (`receiving_arms`)."""
+        can be out of view ahead), its shoulder steady over that view and the ones before it
+        (`person_map.STEADY_FRAMES`: the watch's end, then the look round's stops); its frame
+        faces the chest's facing voted over those views, its size the median over them
+        (`receiving_arms`)."""
         skeletons = (self.percept("skeleton"), *reversed(self.recent), *reversed(self.glimpses))
         forward = steady_facing(skeleton.torso_forward for skeleton in skeletons)
         arms = receiving_arms(skeletons, forward)

@@ -147,15 +147,6 @@ class PersonEffectivity:
         return within & self.cells.reachable(local, self.resolution)
 
 
-def perceived_height(points: np.ndarray, confidence: np.ndarray) -> float | None:
-    """The person's height (m) from a lifted skeleton's shoulder width; None without both
-    shoulders."""
-    right, left = seen_shoulders(points, confidence)
-    if right is None or left is None:
-        return None
-    return _height(right, left)
-
-
 def _height(right: np.ndarray, left: np.ndarray) -> float:
     """The height (m) of a person whose shoulders are at `right` and `left`."""
     return float(np.linalg.norm(right - left)) / SHOULDER_WIDTH_PER_HEIGHT
@@ -167,19 +158,21 @@ def perceived_arm(
     side: str,
     forward: np.ndarray | None = None,
     height: float | None = None,
+    shoulders: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> HumanArm | None:
     """The arm on `side` ("r" or "l") from a lifted COCO-18 skeleton (18 x 3, 18), or None
     without both shoulders (one hidden is mirrored through the neck, `seen_shoulders`).
     `forward`: the way the torso faces (world; the chest's facing voted over frames,
     `perception.facing`), when known. `height` (m): the person's, when known from more than
-    this frame; else from this frame's shoulder width."""
+    this frame; else from this frame's shoulder width. `shoulders`: the (right, left) shoulder
+    keypoints, when known from more than this frame; else this frame's."""
     seen = (np.asarray(confidence) > 0) & np.isfinite(points).all(axis=1)
 
     def at(name: str) -> np.ndarray | None:
         index = keypoint_index(name)
         return points[index] if seen[index] else None
 
-    right, left = seen_shoulders(points, confidence)
+    right, left = seen_shoulders(points, confidence) if shoulders is None else shoulders
     if right is None or left is None:
         return None
     if height is None:
@@ -228,23 +221,43 @@ RECEIVING_SIDES = ("r", "l")
 and a person takes with the other hand what only that hand reaches (a person seated off the
 table's axis, the robot able to stand only on their left). An arm whose elbow or wrist is not
 seen gets the body's proportions (`perceived_arm`)."""
+STEADY_FRAMES = 10
+"""How many frames the arms' shoulders are the median over (`receiving_arms`): the latest that
+shows both shoulders and those before it, a second at the supervisor's 10 Hz. A person
+seated or standing at the table barely moves the shoulders in a second, while a pose detector
+can put one frame's shoulder onto an object held up in front of the camera, a quarter metre
+toward it: the median of ten is moved by none of up to four such frames, and lags a person
+who moves by half a second."""
 
 
 def receiving_arms(
     skeletons: Iterable[Skeleton], forward: np.ndarray | None = None
 ) -> tuple[HumanArm, ...]:
-    """The person's arms, in RECEIVING_SIDES order, from the first of `skeletons` (newest
-    first) that shows both shoulders, their body frame facing `forward` when known (see
-    `perceived_arm`), their size from the median height over all of them that show both
-    shoulders (one frame's shoulders err by 2 cm and more: a pose detector's error persists
-    over a held pose); empty if none shows both."""
+    """The person's arms, in RECEIVING_SIDES order, from `skeletons` (newest first): the
+    elbows and wrists of the first that shows both shoulders, the shoulders steady over it and
+    the older ones, STEADY_FRAMES in all (`steady_shoulders`), their body frame facing
+    `forward` when known (see `perceived_arm`), their size from the median height over all of
+    them that show both shoulders (one frame's shoulders err by 2 cm and more: a pose
+    detector's error persists over a held pose); empty if none shows both."""
     skeletons = list(skeletons)
-    heights = [perceived_height(s.points, s.confidence) for s in skeletons]
-    known = [height for height in heights if height is not None]
-    height = float(np.median(known)) if known else None
-    for skeleton in skeletons:
-        arms = [perceived_arm(skeleton.points, skeleton.confidence, side, forward, height)
-                for side in RECEIVING_SIDES]  # fmt: skip
-        if all(arm is not None for arm in arms):
-            return tuple(arms)
-    return ()
+    shoulders = [seen_shoulders(s.points, s.confidence) for s in skeletons]
+    both = [i for i, (right, left) in enumerate(shoulders) if not (right is None or left is None)]
+    if not both:
+        return ()
+    height = float(np.median([_height(*shoulders[i]) for i in both]))
+    steady = steady_shoulders(shoulders[both[0] : both[0] + STEADY_FRAMES])
+    newest = skeletons[both[0]]
+    return tuple(perceived_arm(newest.points, newest.confidence, side, forward, height, steady)
+                 for side in RECEIVING_SIDES)  # fmt: skip
+
+
+def steady_shoulders(
+    shoulders: Iterable[tuple[np.ndarray | None, np.ndarray | None]],
+) -> tuple[np.ndarray, np.ndarray]:
+    """The (right, left) shoulders, each the per-coordinate median over the frames' (right,
+    left) pairs that show it (None where one does not; at least one must show each): a frame
+    whose keypoint was lifted onto something in front of the shoulder moves no coordinate
+    while most frames agree."""
+    pairs = list(shoulders)
+    return tuple(np.median([pair[k] for pair in pairs if pair[k] is not None], axis=0)
+                 for k in (0, 1))  # fmt: skip

@@ -39,9 +39,11 @@ def face_point(skeleton: Skeleton | None) -> np.ndarray | None:
 
 
 def person_point(skeleton: Skeleton | None, arm: HumanArm | None) -> np.ndarray | None:
-    """A point on the person seen now: the receiving arm's shoulder, or else the neck or a
-    shoulder (presenting to a standing person at their chest, the robot's arm hides one
-    shoulder from its camera, and the arm's frame needs both); None when none is seen."""
-    if arm is not None:
-        return arm.shoulder
-    return first_seen(skeleton, UPPER_BODY)
+    """A point on the person seen now (the neck or a shoulder; None when none is): the
+    receiving arm's shoulder, steady over recent frames (`receiving_arms`), or else the first
+    of those seen (presenting to a standing person at their chest, the robot's arm hides one
+    shoulder from its camera, and the arm's frame needs both)."""
+    seen = first_seen(skeleton, UPPER_BODY)
+    if seen is None:
+        return None
+    return seen if arm is None else arm.shoulder

@@ -35,7 +35,12 @@ from hsr_handover.hsr import COMMANDED_JOINTS, GRIPPER_KEY, HEAD_JOINTS
 from hsr_handover.interface import COMMANDED_TRAJECTORIES
 from hsr_handover.interface.joint_trajectory import JointTrajectory
 from hsr_handover.robot.effectivity.arm_map import ArmEffectivity
-from hsr_handover.robot.effectivity.person_map import RECEIVING_SIDES, HumanArm, receiving_arms
+from hsr_handover.robot.effectivity.person_map import (
+    RECEIVING_SIDES,
+    STEADY_FRAMES,
+    HumanArm,
+    receiving_arms,
+)
 from hsr_handover.robot.handover.correction_watch import CorrectionWatch
 from hsr_handover.robot.handover.cycle import HandoverCycle
 from hsr_handover.robot.handover.cycle_types import CycleRecord, Percepts, Phase
@@ -73,13 +78,15 @@ another object comes into view until a request is recognised."""
 @dataclasses.dataclass
 class _Memory:
     """What the supervisor carries between ticks: the cycle's state machine (`machine`, whose
-    `record` the `cycle` port gives), the person's arms as last seen with both shoulders, the
-    way their torso faces (voted over the watch's frames: later, the robot's own arm comes
+    `record` the `cycle` port gives), the latest STEADY_FRAMES skeletons (newest first: the
+    arms' shoulders are steady over them), the person's arms as last seen with both shoulders,
+    the way their torso faces (voted over the watch's frames: later, the robot's own arm comes
     between the camera and the chest), the head's aim, the scene with what is out of view
     remembered, and where it watches from."""
 
     machine: HandoverCycle
     correcting: CorrectionWatch  # for another object asked for, once it has lifted
+    skeletons: tuple[Skeleton, ...] = ()
     arms: tuple[HumanArm, ...] = ()
     facing: SteadyFacing = dataclasses.field(default_factory=SteadyFacing)
     head: tuple[float, float] | None = None  # (pan, tilt) rad while the cycle looks at a point
@@ -164,7 +171,8 @@ class HandoverSupervisor(LeafSystem):
         skeleton = self._skeleton.Eval(context)
         if memory.machine.record.phase is Phase.WATCH:
             memory.facing = memory.facing.add(skeleton.torso_forward)
-        arms = receiving_arms([skeleton], memory.facing.direction())
+        memory.skeletons = (skeleton, *memory.skeletons)[:STEADY_FRAMES]
+        arms = receiving_arms(memory.skeletons, memory.facing.direction())
         memory.arms = arms or memory.arms
         memory.scene = remember(memory.scene, self._scene.Eval(context))
         if context.get_time() >= VIEW_AFTER_S:

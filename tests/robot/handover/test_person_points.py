@@ -8,6 +8,7 @@ from hsr_handover.interface.coco18 import keypoint_index
 from hsr_handover.robot.effectivity.person_map import SHOULDER_DEPTH, receiving_arms
 from hsr_handover.robot.handover.person_points import face_point, person_point, wrist
 from hsr_handover.robot.perception.skeleton import Skeleton
+from tests.robot.intent.synthetic_person import keypoints
 
 
 def test_a_person_with_one_shoulder_hidden_is_still_in_view():
@@ -27,6 +28,20 @@ def test_a_person_with_one_shoulder_hidden_is_still_in_view():
     assert receiving_arms([skeleton]) == ()
     np.testing.assert_allclose(person_point(skeleton, None), points[shoulder])
     assert person_point(Skeleton.missing("no person"), None) is None
+
+
+def test_the_steady_shoulder_is_a_point_on_the_person_only_while_they_are_seen():
+    """The arm's shoulder is steady over the last second's frames: a person who left the view
+    this frame is not seen now for it (presenting, the robot gives up on a person out of sight)."""
+    points = np.full((18, 3), np.nan)
+    confidence = np.zeros(18)
+    neck = keypoint_index("neck")
+    points[neck], confidence[neck] = [1.5, 0.2, 1.5], 0.9
+    skeleton = Skeleton(np.zeros((18, 2)), points, confidence)
+    whole = Skeleton(np.zeros((18, 2)), *keypoints())
+    arm = receiving_arms([whole])[0]
+    np.testing.assert_allclose(person_point(skeleton, arm), arm.shoulder)
+    assert person_point(Skeleton.missing("no person"), arm) is None
 
 
 def test_the_face_is_read_apart_from_the_body():

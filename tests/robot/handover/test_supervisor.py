@@ -8,8 +8,10 @@ import pytest
 from pydrake.systems.analysis import Simulator
 
 from hsr_handover.hsr import COMMANDED_JOINTS
+from hsr_handover.interface.coco18 import keypoint_index
 from hsr_handover.interface.joint_trajectory import ARM_CONTROLLER, BASE_CONTROLLER
 from hsr_handover.robot.effectivity.arm_map import load_or_build
+from hsr_handover.robot.effectivity.person_map import STEADY_FRAMES
 from hsr_handover.robot.handover.cycle_params import CycleParams
 from hsr_handover.robot.handover.cycle_types import Failure, Phase
 from hsr_handover.robot.handover.look_round import (
@@ -101,6 +103,26 @@ def test_the_persons_arm_faces_the_way_the_chest_faced_while_it_watched(supervis
     memory = system.memory(context)
     np.testing.assert_allclose(memory.facing.direction(), facing, atol=1e-9)
     np.testing.assert_allclose(memory.arms[0].frame[:, 0], facing, atol=1e-9)
+
+
+def test_one_frame_with_a_shoulder_lifted_onto_a_held_object_leaves_the_persons_arm(supervisor):
+    """The pose detector can put a shoulder onto the object the robot holds up in front of the
+    camera, a quarter metre toward it: the arm the cycle plans for keeps the shoulder the last
+    second's frames agree on."""
+    system, context, _ = supervisor
+    points, confidence = keypoints()
+    seated = Skeleton(np.zeros((18, 2)), points, confidence)
+    system.GetInputPort("skeleton").FixValue(context, seated)
+    simulator = Simulator(system, context)
+    simulator.AdvanceTo(1.05)
+    steady = system.memory(context).arms[0].shoulder.copy()
+    lifted = points.copy()
+    lifted[keypoint_index("r_shoulder"), 0] -= 0.26  # toward the robot: the person faces -x
+    system.GetInputPort("skeleton").FixValue(context, Skeleton(seated.pixels, lifted, confidence))
+    simulator.AdvanceTo(1.15)  # one tick on the lifted frame
+    memory = system.memory(context)
+    assert len(memory.skeletons) == STEADY_FRAMES
+    np.testing.assert_allclose(memory.arms[0].shoulder, steady, atol=0.02)
 
 
 _PLACES = {"red": (0.78, -0.3), "yellow": (0.92, -0.08), "green": (0.8, 0.14)}
