@@ -74,7 +74,9 @@ class DetectorSettings:
     at least `min_saturation_fraction` of the palette colour's and value at least
     `min_value_fraction` of it (shaded faces are dark but keep their hue). Masks are opened
     with an `opening_size` square to drop anti-aliased edges and speckle; blobs of fewer than
-    `min_pixels` pixels are ignored.
+    `min_pixels` pixels are ignored. Blobs of a colour whose centres lie within
+    `same_object_m` of each other are one object seen in parts (an arm or the image's edge
+    across it): objects stand 15 cm or more apart, and a cup or box is 5-10 cm across.
     """
 
     min_pixels: int = 40
@@ -82,6 +84,7 @@ class DetectorSettings:
     min_saturation_fraction: float = 0.65
     min_value_fraction: float = 0.1
     opening_size: int = 3
+    same_object_m: float = 0.1
 
 
 @dataclasses.dataclass(frozen=True)
@@ -147,12 +150,38 @@ def _detections_of_color(
     X_WC: np.ndarray,
     settings: DetectorSettings,
 ) -> list[Detection]:
+    parts: list[list[tuple[tuple[int, int, int, int], np.ndarray]]] = []
+    centers: list[np.ndarray] = []
+    for box, blob in _blobs(mask, settings):
+        center = _detection(color, color, box, blob, depth, camera, X_WC).center
+        near = [np.linalg.norm(center - c) <= settings.same_object_m for c in centers]
+        if True in near:
+            parts[near.index(True)].append((box, blob))
+        else:
+            parts.append([(box, blob)])
+            centers.append(center)
     detections = []
-    for rank, (box, blob) in enumerate(_blobs(mask, settings), start=1):
+    for rank, object_parts in enumerate(parts, start=1):
         # Objects are told apart by colour; a repeated colour gets numbered, largest first.
         label = color if rank == 1 else f"{color}#{rank}"
+        box, blob = _joined(object_parts)
         detections.append(_detection(label, color, box, blob, depth, camera, X_WC))
     return detections
+
+
+def _joined(
+    parts: list[tuple[tuple[int, int, int, int], np.ndarray]],
+) -> tuple[tuple[int, int, int, int], np.ndarray]:
+    """One box and blob mask holding every part's (box, blob mask in the box)."""
+    if len(parts) == 1:
+        return parts[0]
+    boxes = np.array([box for box, _ in parts])
+    u_min, v_min = boxes[:, :2].min(axis=0)
+    u_max, v_max = boxes[:, 2:].max(axis=0)
+    blob = np.zeros((v_max - v_min + 1, u_max - u_min + 1), bool)
+    for (u, v, u_end, v_end), part in parts:
+        blob[v - v_min : v_end - v_min + 1, u - u_min : u_end - u_min + 1] |= part
+    return (int(u_min), int(v_min), int(u_max), int(v_max)), blob
 
 
 def label_colour(label: str) -> str:

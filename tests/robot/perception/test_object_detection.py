@@ -186,6 +186,24 @@ def test_repeated_colour_is_numbered_largest_first():
     assert np.linalg.norm(small.center - cups[0].center) < CENTER_TOLERANCE
 
 
+def test_a_cup_cut_in_two_by_something_in_front_is_one_object(synthetic):
+    """A finger across the green cup splits its blob in two: still one green cup, its box the
+    whole cup's; cut into parts 4 pixels apart, the same."""
+    rgb, depth, X_WC, silhouettes = synthetic
+    u_min, v_min, u_max, v_max = _box_of(silhouettes["green"])
+    rgb = rgb.copy()
+    middle = (u_min + u_max) // 2
+    rgb[:, middle - 2 : middle + 2] = np.round(np.array(SKIN) * 255)
+    result = detect_objects(rgb, depth, CAMERA, X_WC)
+    green = [d for d in result.detections if d.color == "green"]
+    assert [d.label for d in green] == ["green"]
+    assert green[0].box == (u_min, v_min, u_max, v_max)
+    assert np.linalg.norm(green[0].center - CUPS[1].center) < CENTER_TOLERANCE
+    apart = DetectorSettings(same_object_m=0.0)  # parts never joined: the cut shows
+    assert len([d for d in detect_objects(rgb, depth, CAMERA, X_WC, settings=apart).detections
+                if d.color == "green"]) == 2  # fmt: skip
+
+
 def test_hollow_blob_takes_its_depth_from_its_own_pixels():
     """A ring's box centre falls in its hole, where the depth is the wall behind it."""
     rgb = np.zeros((240, 320, 3), np.uint8)
