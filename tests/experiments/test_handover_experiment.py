@@ -279,14 +279,6 @@ def test_the_json_keys_the_issue_names(base, box_trial, refusal, tmp_path):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(
-    strict=True,
-    reason="a correction is read before the person's gesture: while the robot lifts the green "
-    "cup, the left arm resting on the table reads straight toward the yellow box for the "
-    "dwell's 0.3 s, and the wrist's trail counts as a rise one frame whose wrist was lifted "
-    "17 cm off its rest (`WristTrail.rose`); the robot puts the green cup back and fetches "
-    "the yellow box, which the person does not take",
-)
 def test_a_person_corrects_the_robot_which_puts_the_wrong_object_back_and_hands_over_another():
     """The moved layout's trial 59 of seed 3, end to end: a request for the blue cup reads as
     asking for the green cup beside it; the person, seeing it lifted, asks again; the robot
