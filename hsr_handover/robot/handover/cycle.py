@@ -78,6 +78,7 @@ class HandoverCycle(PuttingBack, Presenting):
         self._putting: PutBack | None = None  # putting an object back, once asked for another
         self._seen_at = 0.0  # when the person was last seen, presenting
         self._take = TakeDetector(None, math.inf, params)  # made afresh as it presents
+        self._looking_back = False  # retreating from fingers emptied with the object unseen
         self._follower = HandFollower(params)  # made afresh as it presents
         self._offer_watch = OfferWatch(params)  # made afresh as it sets off with an object
 
@@ -277,6 +278,10 @@ class HandoverCycle(PuttingBack, Presenting):
         self._hold_still(p)
 
     def _retreat(self, p: Percepts) -> None:
+        if self._looking_back and self._take.seen_up(p, self._fetch.start):
+            self._looking_back = False
+            self._let_go(p)  # in the person's hand, which the robot's own had hidden
+            return
         if self._moving(p.time):
             return
         phase, failure, reason = self._after_retreat

@@ -88,6 +88,11 @@ class Presenting:
             self._let_go(p)
         elif emptied is Emptied.DROPPED:
             self._dropped(p)
+        elif emptied is Emptied.UNSEEN:
+            # Withdrawn, the hand no longer hides it: seen up in the person's hand on the way
+            # back (`cycle._retreat`), it was taken.
+            self._looking_back = True
+            self._dropped(p)
 
     def _follow_hand(self, p: Percepts) -> None:
         step = self._follower.step(p, following=self._motions.running_name == "follow")

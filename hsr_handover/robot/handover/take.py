@@ -34,7 +34,8 @@ class Emptied(enum.Enum):
     JUST_NOW = "just now"  # the first decision with the fingers empty: stand still and look
     LOOKING = "looking"  # not yet `empty_s` since: the object may still be falling
     TAKEN = "taken"  # the camera sees it up, in the person's hand
-    DROPPED = "dropped"
+    DROPPED = "dropped"  # the camera sees it down, where it stood or lower
+    UNSEEN = "unseen"  # not seen at all: the robot's own hand may hide it in the person's
 
 
 class TakeDetector:
@@ -108,19 +109,25 @@ class TakeDetector:
     def emptied(self, p: Percepts, object_start: np.ndarray | None) -> Emptied:
         """Fingers closed on nothing with no hand seen at the object nor tug felt: dropped, or
         taken by a hand out of the camera's sight. The robot holds still for `empty_s`, then
-        the camera tells: an object seen `still_up` above where it stood (`object_start`, m,
-        world) is in the person's hand."""
+        the camera tells: an object seen up (`seen_up`) is in the person's hand, one seen
+        lower has dropped, and one not seen at all may be hidden by the robot's own hand."""
         params = self._params
         just_now = self._emptied_at is None
         if just_now:
             self._emptied_at = p.time
         if p.time - self._emptied_at < params.empty_s:
             return Emptied.JUST_NOW if just_now else Emptied.LOOKING
+        if p.object_seen is None:
+            return Emptied.UNSEEN
+        return Emptied.TAKEN if self.seen_up(p, object_start) else Emptied.DROPPED
+
+    def seen_up(self, p: Percepts, object_start: np.ndarray | None) -> bool:
+        """Whether the camera sees the object `still_up` above where it stood (`object_start`,
+        m, world; False when that is not known)."""
         seen = p.object_seen
-        if seen is not None and object_start is not None:
-            if seen[2] > object_start[2] + params.still_up:
-                return Emptied.TAKEN
-        return Emptied.DROPPED
+        if seen is None or object_start is None:
+            return False
+        return bool(seen[2] > object_start[2] + self._params.still_up)
 
     def _load_change(
         self, p: Percepts, person: np.ndarray | None

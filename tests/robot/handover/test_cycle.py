@@ -629,6 +629,27 @@ def test_fingers_closing_with_the_object_still_up_and_the_hand_unseen_is_a_hando
     assert record.failure is None and Phase.RELEASE.value in record.phase_times
 
 
+def test_fingers_emptied_with_the_object_unseen_withdraw_then_judge_what_the_camera_sees():
+    """The person took the object as the carry slowed, their hand and the object hidden by the
+    robot's own: unseen, the robot withdraws, and the camera then tells. Seen up in the
+    person's hand on the way back: a handover (released, done); not seen: dropped."""
+
+    def emptied_unseen() -> World:
+        world = _presenting()
+        world.opening = 0.0
+        world.seen = None
+        world.tick(PARAMS.empty_s + TICK)
+        assert world.machine.record.phase is Phase.RETREAT  # withdrawing to look
+        return world
+
+    world = emptied_unseen()
+    world.seen = OBJECT + [0.3, 0.0, PARAMS.still_up + 0.1]
+    record = world.until(Phase.DONE)
+    assert record.failure is None and Phase.RELEASE.value in record.phase_times
+    record = emptied_unseen().until(Phase.FAILED)
+    assert record.failure is Failure.DROPPED
+
+
 def test_a_copy_steps_on_its_own():
     """Drake copies the state with each context: a copy must not share the record."""
     world = World()

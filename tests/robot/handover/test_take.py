@@ -223,8 +223,9 @@ def test_an_object_seen_4_cm_above_where_it_stood_was_dropped():
     assert _verdicts((0.0, 0.7), STOOD + [0.1, 0.0, 0.04])[-1] is Emptied.DROPPED
 
 
-def test_an_object_out_of_sight_was_dropped():
-    assert _verdicts((0.0, 0.7), None)[-1] is Emptied.DROPPED
+def test_an_object_out_of_sight_is_unseen_not_yet_dropped():
+    """Nowhere in the camera's view: the robot's own hand may hide it in the person's."""
+    assert _verdicts((0.0, 0.7), None)[-1] is Emptied.UNSEEN
 
 
 def test_fingers_that_hold_again_restart_the_wait():
