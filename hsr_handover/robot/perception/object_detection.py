@@ -150,31 +150,36 @@ def _detections_of_color(
     X_WC: np.ndarray,
     settings: DetectorSettings,
 ) -> list[Detection]:
-    parts: list[list[tuple[tuple[int, int, int, int], np.ndarray]]] = []
-    centers: list[np.ndarray] = []
+    # Each object: the detection of its largest blob, and every blob that is a part of it.
+    objects: list[tuple[Detection, list[tuple[tuple[int, int, int, int], np.ndarray]]]] = []
     for box, blob in _blobs(mask, settings):
-        center = _detection(color, color, box, blob, depth, camera, X_WC).center
-        near = [np.linalg.norm(center - c) <= settings.same_object_m for c in centers]
-        if True in near:
-            parts[near.index(True)].append((box, blob))
+        part = _detection(color, color, box, blob, depth, camera, X_WC)
+        whole = next((whole for whole in objects if _near(part, whole[0], settings)), None)
+        if whole is None:
+            objects.append((part, [(box, blob)]))
         else:
-            parts.append([(box, blob)])
-            centers.append(center)
+            whole[1].append((box, blob))
     detections = []
-    for rank, object_parts in enumerate(parts, start=1):
+    for rank, (largest, parts) in enumerate(objects, start=1):
         # Objects are told apart by colour; a repeated colour gets numbered, largest first.
         label = color if rank == 1 else f"{color}#{rank}"
-        box, blob = _joined(object_parts)
-        detections.append(_detection(label, color, box, blob, depth, camera, X_WC))
+        if len(parts) == 1:
+            detections.append(dataclasses.replace(largest, label=label))
+        else:
+            box, blob = _joined(parts)
+            detections.append(_detection(label, color, box, blob, depth, camera, X_WC))
     return detections
+
+
+def _near(part: Detection, whole: Detection, settings: DetectorSettings) -> bool:
+    """Whether `part` lies within `same_object_m` of `whole` (never with a NaN centre)."""
+    return bool(np.linalg.norm(part.center - whole.center) <= settings.same_object_m)
 
 
 def _joined(
     parts: list[tuple[tuple[int, int, int, int], np.ndarray]],
 ) -> tuple[tuple[int, int, int, int], np.ndarray]:
     """One box and blob mask holding every part's (box, blob mask in the box)."""
-    if len(parts) == 1:
-        return parts[0]
     boxes = np.array([box for box, _ in parts])
     u_min, v_min = boxes[:, :2].min(axis=0)
     u_max, v_max = boxes[:, 2:].max(axis=0)
