@@ -36,7 +36,7 @@ GRID = {
     "t_max": (0.3, 0.5),
     "steady_deg_s": (30.0, 1000.0),
     "smoothing_s": (0.6, 1.0),
-    "bent_gap_s": (0.0, 0.2),
+    "bent_gap_s": (0.0, 0.3),
     "gaze_pitch_tolerance_deg": (8.0, 90.0),
 }
 
