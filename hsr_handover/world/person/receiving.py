@@ -132,6 +132,7 @@ class Receiver:
         self._away = np.zeros(3)  # the unit direction the hand came from, from the object
         self._closed_at = np.zeros(3)  # where the hand closed
         self._hand_before: np.ndarray | None = None
+        self._short_since = math.inf  # since when the hand has stopped out of grip
 
     @property
     def _reach(self) -> float:
@@ -158,9 +159,7 @@ class Receiver:
             return self._watch(time, objects, gripper, posture)
         if self.state is Receiving.REACHING:
             name = self._offered[0]
-            closed = self._close_on_arrival(time, objects[name], hand, name in touching)
-            stop = closed and name in touching and posture is not None  # it stops where it is
-            return [(time, posture)] if stop else []
+            return self._reaching(time, objects[name], hand, gripper, posture, name in touching)
         if self.state is Receiving.HOLDING and time - self._gripped_at >= TUG_S:
             self.state = Receiving.TUGGING
             return [(time, self._posture(time, self._closed_at + TUG * self._away))]
@@ -169,11 +168,19 @@ class Receiver:
             return [(time, self._posture(time, self._closed_at + DRAW_IN * self._away))]
         return []
 
-    def _close_on_arrival(
-        self, time: float, target: np.ndarray, hand: np.ndarray, touched: bool
-    ) -> bool:
-        """Close the hand if it arrived, stopped or `touched` the object within GRIP_DISTANCE
-        of it; whether it closed."""
+    def _reaching(
+        self,
+        time: float,
+        target: np.ndarray,
+        hand: np.ndarray,
+        gripper: Sequence[Capsule],
+        posture: np.ndarray | None,
+        touched: bool,
+    ) -> list[tuple[float, np.ndarray]]:
+        """Close the hand on the object at `target` if it got there (a hand that `touched` it
+        stops where it is); a hand stopped out of grip for a reaction time reaches again, for
+        where the object is now (people correct a reach whose object has moved: Prablanc and
+        Martin 1992, J. Neurophysiol. 67:455)."""
         since, point = self._reach_for
         before, self._hand_before = self._hand_before, hand
         arrived = np.linalg.norm(hand - point) <= ARRIVED
@@ -182,11 +189,18 @@ class Receiver:
             and time >= since + SETTLE_AFTER_S
             and np.linalg.norm(hand - before) <= SETTLED
         )
-        if not (arrived or stopped or touched) or np.linalg.norm(hand - target) > GRIP_DISTANCE:
-            return False
-        self.state, self.grip, self._gripped_at = Receiving.HOLDING, self._offered[0], time
-        self._closed_at = hand
-        return True
+        if (arrived or stopped or touched) and np.linalg.norm(hand - target) <= GRIP_DISTANCE:
+            self.state, self.grip, self._gripped_at = Receiving.HOLDING, self._offered[0], time
+            self._closed_at = hand
+            return [(time, posture)] if touched and posture is not None else []
+        if not stopped:
+            self._short_since = math.inf
+            return []
+        self._short_since = min(self._short_since, time)
+        if time - self._short_since < self._params.reaction_s:
+            return []
+        posture = self._rest if posture is None else posture
+        return self._reach_for_object(time, target, gripper, posture)
 
     def _arms(self) -> tuple[str, ...]:
         """The arms it may take with, the preferred first."""
@@ -220,12 +234,19 @@ class Receiver:
         if time - self._offered[1] < STILL_S:
             return []
         self.state = Receiving.REACHING
-        self.arm = self._nearest_arm(objects[still])[0]
-        start = time + self._params.reaction_s
+        return self._reach_for_object(time + self._params.reaction_s, objects[still], gripper,
+                                      posture)  # fmt: skip
+
+    def _reach_for_object(
+        self, start: float, centre: np.ndarray, gripper: Sequence[Capsule], posture: np.ndarray
+    ) -> list[tuple[float, np.ndarray]]:
+        """Reach from `start` (s) for the object at `centre` with the arm nearer it, from the
+        arm's angles in `posture`."""
+        self.arm = self._nearest_arm(centre)[0]
         arm = posture[arm_joint_indices(self.arm)]
-        reach = reach_point(self._body, self.arm, objects[still], gripper, arm)
-        self._reach_for = (start, reach)
-        self._away = (reach - objects[still]) / np.linalg.norm(reach - objects[still])
+        reach = reach_point(self._body, self.arm, centre, gripper, arm)
+        self._reach_for, self._hand_before, self._short_since = (start, reach), None, math.inf
+        self._away = (reach - centre) / np.linalg.norm(reach - centre)
         return [(start, self._posture(start, reach))]
 
     def _posture(self, time: float, point: np.ndarray) -> np.ndarray:

@@ -107,7 +107,7 @@ def test_a_hand_that_stops_short_closes_once_stopped_if_the_object_is_within_gri
     for stop, closes in ((GRIP_DISTANCE - 0.01, True), (GRIP_DISTANCE + 0.01, False)):
         receiver = Receiver(BODY, ReceivingParams(reaction_s=0.0))
         receiver.update(0.0, {"cup": ON_TABLE}, SHOULDER)
-        _offer(receiver, start=0.05)  # the reach starts at about 0.4 s
+        _offer(receiver, start=0.05, seconds=0.4)  # until the reach starts, at about 0.4 s
         toward = (SHOULDER - OFFERED) / np.linalg.norm(SHOULDER - OFFERED)
         stopped = OFFERED + stop * toward
         receiver.update(0.5, {"cup": OFFERED}, stopped)
@@ -116,6 +116,42 @@ def test_a_hand_that_stops_short_closes_once_stopped_if_the_object_is_within_gri
         receiver.update(0.45 + SETTLE_AFTER_S, {"cup": OFFERED}, stopped)
         receiver.update(0.5 + SETTLE_AFTER_S, {"cup": OFFERED}, stopped)
         assert (receiver.grip == "cup") is closes
+
+
+def _stopped_short(reaction_s: float) -> tuple[Receiver, np.ndarray, float]:
+    """A receiver whose reach for OFFERED started and whose hand then stopped out of grip:
+    the receiver, the stopped hand and the time (s) from which it counts as stopped."""
+    receiver = Receiver(BODY, ReceivingParams(reaction_s=reaction_s))
+    receiver.update(0.0, {"cup": ON_TABLE}, SHOULDER)
+    ((reach_start, _),) = _offer(receiver, start=0.05, seconds=0.4)
+    toward = (SHOULDER - OFFERED) / np.linalg.norm(SHOULDER - OFFERED)
+    stopped = OFFERED + (GRIP_DISTANCE + 0.03) * toward
+    receiver.update(reach_start + 0.01, {"cup": OFFERED}, stopped)  # still from here on
+    assert receiver.update(reach_start + SETTLE_AFTER_S - 0.01, {"cup": OFFERED}, stopped) == []
+    return receiver, stopped, reach_start + SETTLE_AFTER_S + 0.01
+
+
+def test_a_hand_stopped_out_of_grip_reaches_again_for_where_the_object_is_now():
+    receiver, stopped, short_since = _stopped_short(reaction_s=0.4)
+    moved = OFFERED + [0.0, 0.08, 0.0]  # the robot carried it on meanwhile
+    for time in short_since + np.array([0.0, 0.2, 0.38]):  # within the reaction time
+        assert receiver.update(time, {"cup": moved}, stopped) == []
+    ((start, posture),) = receiver.update(short_since + 0.42, {"cup": moved}, stopped)
+    assert start == pytest.approx(short_since + 0.42) and receiver.grip == ""
+    hand = arm_points(BODY, "right", posture[arm_joint_indices("right")])["hand"]
+    np.testing.assert_allclose(hand, reach_point(BODY, "right", moved), atol=0.01)
+    assert receiver.update(start + 0.05, {"cup": moved}, stopped) == []  # on its way
+    assert receiver.update(start + 0.5, {"cup": moved}, hand) == []  # there: it closes
+    assert receiver.state is Receiving.HOLDING and receiver.grip == "cup"
+
+
+def test_a_reach_stopped_out_of_grip_for_the_other_hand_is_made_with_it():
+    receiver, stopped, short_since = _stopped_short(reaction_s=0.0)
+    across = BODY.shoulder("left") + [0.4, -0.05, -0.05]
+    ((_, posture),) = receiver.update(short_since, {"cup": across}, stopped)
+    assert receiver.arm == "left"
+    hand = arm_points(BODY, "left", posture[arm_joint_indices("left")])["hand"]
+    np.testing.assert_allclose(hand, reach_point(BODY, "left", across), atol=0.01)
 
 
 def test_with_no_fingers_in_the_way_the_hand_comes_straight_from_the_shoulder():
