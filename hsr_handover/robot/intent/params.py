@@ -66,7 +66,8 @@ class IntentParams:
     steady_deg_s: the pointing ray counts only while it turns slower than this (deg/s) over
     that window: a gesture is read in its hold, not while the arm sweeps toward the target.
     The detector's error reads as turning too: with it doubled, a held arm's ray turns
-    30-45 deg/s between the window's halves now and then, and a stricter bound broke holds.
+    30-45 deg/s between the window's halves now and then, and a stricter bound broke holds;
+    bridged through its bent readings (`bent_gap_s`), more than that.
     bent_gap_s: how long (s) a pointing arm may read bent, or go unseen, before its gesture
     ends; meanwhile its frames are judged with the rays it showed in the last `smoothing_s`
     (an arm pointing across the body or at the camera is foreshortened, and its lifted elbow
@@ -109,7 +110,7 @@ class IntentParams:
     face_tilt_deg: float = 30.0
     smoothing_s: float = 1.0
     pitch_smoothing_s: float = 1.5
-    steady_deg_s: float = 45.0
+    steady_deg_s: float = 60.0
     bent_gap_s: float = 0.3
     correction_gaze_tolerance_deg: float = 24.0
     correction_below_deg: float = 10.0
