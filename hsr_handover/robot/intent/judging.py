@@ -39,7 +39,8 @@ class Observation:
     """What a frame shows of the person: the pointing arm (None if no arm is straight), its
     elbow angle and ray, the face's ray (None without the face) and the torso's forward
     direction (None without shoulders or hips); how fast (deg/s) the pointing ray turns, as
-    `RaySmoother` measures it (infinite until enough frames show it; 0 for a lone frame)."""
+    `RaySmoother` measures it (infinite until enough frames show it; 0 for a lone frame); and
+    whether the pointing ray passes within `d_min` of an object (`at_object`)."""
 
     arm: str | None = None
     elbow_angle_deg: float = math.nan
@@ -48,6 +49,7 @@ class Observation:
     forward: np.ndarray | None = None
     sweep_deg_s: float = 0.0
     face_for_pitch: Ray | None = None
+    at_object: bool = False
 
 
 def observe(
@@ -64,8 +66,11 @@ def observe(
     arms = pointing_rays(points, confidence, params)
     if not arms or len(centers) == 0:
         return Observation(face=face, forward=torso_forward(points, confidence))
-    arm, angle, ray = min(arms, key=lambda item: ray_distances(item[2], centers).min())
-    return Observation(arm, angle, ray, face, torso_forward(points, confidence, arm))
+    nearest = [ray_distances(ray, centers).min() for _, _, ray in arms]
+    best = int(np.argmin(nearest))
+    arm, angle, ray = arms[best]
+    return Observation(arm, angle, ray, face, torso_forward(points, confidence, arm),
+                       at_object=bool(nearest[best] <= params.d_min))  # fmt: skip
 
 
 @dataclasses.dataclass(frozen=True)

@@ -55,10 +55,15 @@ class RaySmoother:
     changes, or when it stops pointing for longer than `gap` seconds (until then, the window's
     rays stand for it, whichever other arm reads straight meanwhile: a pointing arm read bent
     for a frame lets a resting arm read straight that frame point instead, and restarting on
-    it, and back, threw the gesture's hold away). A frame without a face adds nothing to the
-    face's history but is given the window's face: the face seen in the last `window` seconds,
-    never a guess (OpenPose drops a face point in about a quarter of frames; without a face
-    seen in the window, there is no face). The face whose pitch is checked is the median over
+    it, and back, threw the gesture's hold away). Nor, while that arm is in its gap, does an
+    arm whose ray passes near no object take the gesture from one that last pointed at an
+    object: a standing person's hanging arm reads straight, and under twice the detector's
+    error it took the gesture at each bent frame of the pointing arm, and gave it back, so that
+    the hold was never read. An arm pointing at an object takes over from one pointing at
+    nothing at once. A frame without a face adds nothing to the face's history but is given
+    the window's face: the face seen in the last `window` seconds, never a guess (OpenPose
+    drops a face point in about a quarter of frames; without a face seen in the window, there
+    is no face). The face whose pitch is checked is the median over
     `pitch_window` seconds, from the same history."""
 
     MIN_FRAMES = 4  # for a turning rate: two frames in each half
@@ -70,6 +75,7 @@ class RaySmoother:
         self._face: list[tuple[float, Ray]] = []  # over the longer of the two face windows
         self._arm: str | None = None
         self._bridging = False  # the last frame was in its arm's gap
+        self._at_object = False  # the pointing arm's last ray passed near an object
 
     def __deepcopy__(self, memo: dict) -> RaySmoother:
         """Rays are never changed once made: a copy has its own histories, sharing the rays
@@ -80,9 +86,12 @@ class RaySmoother:
 
     def smooth(self, time: float, observation: Observation) -> Observation:
         in_gap = bool(self._pointing) and time - self._pointing[-1][0] <= self.gap + 1e-9
-        if observation.arm != self._arm and self._bridging and in_gap:
+        other = observation.arm != self._arm and in_gap
+        if other and (self._bridging or (self._at_object and not observation.at_object)):
             observation = dataclasses.replace(observation, arm=None, pointing=None)
         self._bridging = False
+        if observation.pointing is not None:
+            self._at_object = observation.at_object
         if observation.pointing is None and self._pointing:
             if in_gap:  # a gesture in a gap goes on
                 observation = dataclasses.replace(observation, arm=self._arm)

@@ -561,6 +561,39 @@ def test_another_arm_read_straight_in_the_pointing_arms_gap_does_not_end_its_ges
     np.testing.assert_allclose(switched.pointing.direction, [0, 1, 0])
 
 
+def test_an_arm_pointing_at_nothing_in_the_pointing_arms_gap_does_not_take_its_gesture():
+    """A standing person's hanging arm reads straight, pointing at no object, in the frames in
+    which the pointing arm reads bent: the gesture goes on, its hold kept. An arm pointing at
+    an object takes over from one pointing at nothing at once."""
+    smoother = RaySmoother(1.0, gap=0.3)
+    ray, hanging = Ray.through([0, 0, 0], [1, 0, 0]), Ray.through([0, 0, 0], [0, 0, -1])
+    for time in np.arange(0.0, 0.5, 0.1):
+        smoother.smooth(time, Observation("right", 170.0, ray, at_object=True))
+    kept = smoother.smooth(0.5, Observation("left", 175.0, hanging))  # the right read bent
+    assert kept.arm == "right" and kept.sweep_deg_s == pytest.approx(0.0)
+    np.testing.assert_allclose(kept.pointing.direction, [1, 0, 0])
+    back = smoother.smooth(0.6, Observation("right", 170.0, ray, at_object=True))
+    assert back.arm == "right" and back.sweep_deg_s == pytest.approx(0.0)
+    # Once the pointing arm has been bent for longer than the gap, the hanging arm is read.
+    smoother.smooth(0.7, Observation("left", 175.0, hanging))
+    late = smoother.smooth(1.0, Observation("left", 175.0, hanging))
+    assert late.arm == "left"
+    np.testing.assert_allclose(late.pointing.direction, [0, 0, -1])
+    raised = smoother.smooth(1.1, Observation("right", 170.0, ray, at_object=True))
+    assert raised.arm == "right"
+    np.testing.assert_allclose(raised.pointing.direction, [1, 0, 0])
+
+
+def test_a_pointing_arm_is_at_an_object_when_its_ray_passes_within_d_min_of_one():
+    label, center = CUPS[1]
+    points, confidence = keypoints(look_at=center, point_with="right", point_at=center)
+    centers = np.array([c for _, c in CUPS])
+    seen = observe(points, confidence, centers, IntentParams())
+    assert seen.arm == "right" and seen.at_object
+    far = centers + [0.0, 0.0, 2.0]  # every object 2 m over where the arm points
+    assert not observe(points, confidence, far, IntentParams()).at_object
+
+
 def test_the_face_is_the_median_of_its_window_so_one_wild_frame_does_not_turn_it():
     """One frame's eq. 17 normal can read tens of degrees off (a jittered eye pixel whose depth
     window slips off the eye): the window's face keeps the others' heading and elevation,
