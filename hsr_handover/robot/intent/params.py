@@ -73,7 +73,7 @@ class IntentParams:
     (an arm pointing across the body or at the camera is foreshortened, and its lifted elbow
     lands on the forearm: the elbow angle of a held arm flickers between 100 and 170 deg).
     With the detector's error doubled a held arm reads bent for runs of frames: 0.3 s reads
-    them through, where 0.2 s lost a request in ten; 0.5 s bridged an arm held out to receive
+    them through, where 0.2 s lost one request in twenty; 0.5 s bridged an arm held out to receive
     into a gesture that never ended, and a person's correction went unseen.
     correction_gaze_tolerance_deg: `gaze_tolerance_deg` for a correction (see
     `IntentTracker`): the object first recognised is left out, and with it the neighbour the

@@ -63,8 +63,8 @@ class RaySmoother:
     nothing at once. A frame without a face adds nothing to the face's history but is given
     the window's face: the face seen in the last `window` seconds, never a guess (OpenPose
     drops a face point in about a quarter of frames; without a face seen in the window, there
-    is no face). The face whose pitch is checked is the median over
-    `pitch_window` seconds, from the same history."""
+    is no face). The face whose pitch is checked is the median over `pitch_window` seconds,
+    from the same history."""
 
     MIN_FRAMES = 4  # for a turning rate: two frames in each half
 
