@@ -107,8 +107,9 @@ class RaySmoother:
         face = _since(self._face, time - self.window, _median_ray)
         for_pitch = _since(self._face, time - self.pitch_window, _median_ray)
         sweep = self._sweep_deg_s() if pointing is not None else 0.0
+        at_object = pointing is not None and self._at_object
         return dataclasses.replace(observation, pointing=pointing, face=face, sweep_deg_s=sweep,
-                                   face_for_pitch=for_pitch)  # fmt: skip
+                                   face_for_pitch=for_pitch, at_object=at_object)  # fmt: skip
 
     @staticmethod
     def _add(history: list, time: float, ray: Ray | None, window: float) -> None:

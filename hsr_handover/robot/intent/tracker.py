@@ -78,8 +78,9 @@ class IntentState:
 
 @dataclasses.dataclass(frozen=True)
 class _CorrectionWatch:
-    """After the target is recognised: since when no arm has pointed (`free_since`), whether a
-    new gesture may now be read (`armed`), and its dwell (`candidate` since `since`)."""
+    """After the target is recognised: since when no arm has pointed at an object
+    (`free_since`), whether a new gesture may now be read (`armed`), and its dwell
+    (`candidate` since `since`)."""
 
     free_since: float = math.nan
     armed: bool = False
@@ -92,8 +93,9 @@ class IntentTracker:
     start and at the end, for `t_max` seconds, is the recognised target (latched).
 
     After that it watches for a correction: a person who sees the robot fetch the wrong object
-    asks again. Once no arm has pointed for `smoothing_s` (the first gesture's rays have left
-    the window), a new gesture (its wrist risen to where it points: `WristTrail`) that asks
+    asks again. Once no arm has pointed at an object for `smoothing_s` (the first gesture's
+    rays have left the window; a standing person's other arm may hang straight, pointing at
+    nothing), a new gesture (its wrist risen to where it points: `WristTrail`) that asks
     for another object than the target, by the same dwell, with the eyes not on a point below
     it, is the `correction` (latched too). The objects are judged where they were last seen."""
 
@@ -245,7 +247,7 @@ class IntentTracker:
         if state.correction is not None:
             return state
         if not watch.armed:
-            if state.frame.pointing is not None:
+            if observed is not None and observed.pointing is not None and observed.at_object:
                 watch = _CorrectionWatch()  # the first gesture still points
             elif math.isnan(watch.free_since):
                 watch = _CorrectionWatch(free_since=time)

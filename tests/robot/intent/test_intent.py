@@ -640,6 +640,31 @@ def test_after_the_target_a_new_gesture_at_another_object_is_a_correction():
     assert corrected[0].target == "green"  # the first target stays what it was
 
 
+def _left_hanging(points: np.ndarray, look_at: np.ndarray) -> np.ndarray:
+    """`points` with the left arm hanging straight at the side, as a standing person's does."""
+    hanging, _ = keypoints(look_at=look_at, point_with="left", arm_angles=np.zeros(5))
+    left = [keypoint_index(f"l_{joint}") for joint in ("shoulder", "elbow", "wrist")]
+    points = points.copy()
+    points[left] = hanging[left]
+    return points
+
+
+def test_a_hanging_arm_read_straight_does_not_keep_a_correction_from_being_read():
+    """A standing person's other arm hangs straight and points at nothing: the first gesture
+    is over once the pointing arm is lowered, and a new one at another object corrects it."""
+    params = IntentParams(t_max=0.5, face_tilt_deg=TRUE_FACE_TILT)
+    tracker, time = _recognised_green(params)
+    resting, confidence = keypoints(look_at=CUPS[1][1])
+    resting = _left_hanging(resting, CUPS[1][1])
+    left = [keypoint_index(f"l_{joint}") for joint in ("shoulder", "elbow", "wrist")]
+    assert elbow_angle_deg(*resting[left]) > 170.0
+    states, time = _run(tracker, time, params.smoothing_s + 0.5, resting, confidence)
+    assert states[-1].frame.arm == "left" and all(state.correction is None for state in states)
+    blue, confidence = keypoints(look_at=CUPS[2][1], point_with="right", point_at=CUPS[2][1])
+    states, _ = _run(tracker, time, 2.0, _left_hanging(blue, CUPS[2][1]), confidence)
+    assert states[-1].correction == "blue"
+
+
 def test_no_correction_without_the_arm_lowered_for_the_smoothing_window_first():
     params = IntentParams(t_max=0.5, face_tilt_deg=TRUE_FACE_TILT)
     tracker, time = _recognised_green(params)
