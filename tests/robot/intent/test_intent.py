@@ -585,7 +585,7 @@ def test_an_arm_pointing_at_nothing_in_the_pointing_arms_gap_does_not_take_its_g
 
 
 def test_a_pointing_arm_is_at_an_object_when_its_ray_passes_within_d_min_of_one():
-    label, center = CUPS[1]
+    center = CUPS[1][1]
     points, confidence = keypoints(look_at=center, point_with="right", point_at=center)
     centers = np.array([c for _, c in CUPS])
     seen = observe(points, confidence, centers, IntentParams())
@@ -640,12 +640,14 @@ def test_after_the_target_a_new_gesture_at_another_object_is_a_correction():
     assert corrected[0].target == "green"  # the first target stays what it was
 
 
+LEFT_ARM = [keypoint_index(f"l_{joint}") for joint in ("shoulder", "elbow", "wrist")]
+
+
 def _left_hanging(points: np.ndarray, look_at: np.ndarray) -> np.ndarray:
     """`points` with the left arm hanging straight at the side, as a standing person's does."""
     hanging, _ = keypoints(look_at=look_at, point_with="left", arm_angles=np.zeros(5))
-    left = [keypoint_index(f"l_{joint}") for joint in ("shoulder", "elbow", "wrist")]
     points = points.copy()
-    points[left] = hanging[left]
+    points[LEFT_ARM] = hanging[LEFT_ARM]
     return points
 
 
@@ -656,8 +658,7 @@ def test_a_hanging_arm_read_straight_does_not_keep_a_correction_from_being_read(
     tracker, time = _recognised_green(params)
     resting, confidence = keypoints(look_at=CUPS[1][1])
     resting = _left_hanging(resting, CUPS[1][1])
-    left = [keypoint_index(f"l_{joint}") for joint in ("shoulder", "elbow", "wrist")]
-    assert elbow_angle_deg(*resting[left]) > 170.0
+    assert elbow_angle_deg(*resting[LEFT_ARM]) > 170.0
     states, time = _run(tracker, time, params.smoothing_s + 0.5, resting, confidence)
     assert states[-1].frame.arm == "left" and all(state.correction is None for state in states)
     blue, confidence = keypoints(look_at=CUPS[2][1], point_with="right", point_at=CUPS[2][1])
