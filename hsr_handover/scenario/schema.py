@@ -380,7 +380,8 @@ class IntentConfig:
     direction and its pitch from level, scaled by `head_gain`; with `face_from_head_shape`
     the face's direction is read from the head's shape in depth where it is found, else from
     eq. 17's normal tilted down by `face_tilt_deg`)
-    within `gaze_tolerance_deg` horizontally of the same object and no more than
+    within `gaze_tolerance_deg` horizontally of the same object (or `gaze_tolerance_share` of
+    the eyes' turn from the torso's front to it, if more) and no more than
     `gaze_pitch_tolerance_deg` above it (or `gaze_pitch_tolerance_share` of the eyes' look down
     to it, if more), both for `t_max`, over rays averaged across
     `smoothing_s` (the face's pitch across `pitch_smoothing_s`), while the pointing arm turns
@@ -391,7 +392,8 @@ class IntentConfig:
     The meaning and the measured defaults: `hsr_handover.robot.intent.IntentParams`.
 
     Ranges: straight_arm_deg in (90, 180] deg; d_min in (0, 2] m; gaze_tolerance_deg and
-    gaze_pitch_tolerance_deg in (0, 90] deg; gaze_pitch_tolerance_share in [0, 1];
+    gaze_pitch_tolerance_deg in (0, 90] deg; gaze_tolerance_share and
+    gaze_pitch_tolerance_share in [0, 1];
     gaze_weight in (0, 10]; t_max in [0, 10] s;
     head_gain in [1, 3]; face_tilt_deg in [0, 90] deg; smoothing_s in [0, 10] s; steady_deg_s
     in (0, 1000] deg/s; bent_gap_s and pitch_smoothing_s in [0, 10] s."""
@@ -399,6 +401,7 @@ class IntentConfig:
     straight_arm_deg: float = IntentParams.straight_arm_deg
     d_min: float = IntentParams.d_min
     gaze_tolerance_deg: float = IntentParams.gaze_tolerance_deg
+    gaze_tolerance_share: float = IntentParams.gaze_tolerance_share
     gaze_pitch_tolerance_deg: float = IntentParams.gaze_pitch_tolerance_deg
     gaze_pitch_tolerance_share: float = IntentParams.gaze_pitch_tolerance_share
     gaze_weight: float = IntentParams.gaze_weight

@@ -12,6 +12,7 @@ import numpy as np
 from hsr_handover.robot.intent.params import IntentParams
 from hsr_handover.robot.intent.person_rays import (
     bearing_errors_deg,
+    bearing_tolerance_deg,
     face_ray,
     gaze_ray,
     pitch_errors_deg,
@@ -107,7 +108,8 @@ def judge(
 ) -> FrameJudgement:
     """The object the observed rays ask for among the (label, centre) candidates: the one with
     the least (d / d_min)^2 + gaze_weight (gaze error / gaze_tolerance_deg)^2, if both are
-    within bounds. (A centre object can be the right answer when the arm errs toward one
+    within bounds (the gaze's within `bearing_tolerance_deg` and `pitch_tolerance_deg`). (A
+    centre object can be the right answer when the arm errs toward one
     neighbour and the eyes toward the other.)"""
     labels = [label for label, _ in candidates]
     centers = np.array([center for _, center in candidates], dtype=float).reshape(-1, 3)
@@ -125,7 +127,8 @@ def judge(
         pointed = labels[best] if pointing[best] <= 1.0 else None
         status = NO_FACE if pointed else NOTHING_POINTED_AT
         return FrameJudgement(pointed, _clarity(pointing, best), status, **seen)
-    looking = bearing_errors_deg(gaze, centers) / params.gaze_tolerance_deg
+    beside = bearing_errors_deg(gaze, centers)  # the eyes beside each object (deg)
+    looking = beside / params.gaze_tolerance_deg
     scores = pointing**2 + params.gaze_weight * looking**2
     best = int(np.argmin(scores))
     if pointing[best] > 1.0:
@@ -134,7 +137,9 @@ def judge(
     if observation.face_for_pitch is not None:
         level = gaze_ray(observation.face_for_pitch, observation.forward, params)
     above = pitch_errors_deg(level, centers[best : best + 1])[0]  # the eyes over the object
-    if looking[best] > 1.0 or above > pitch_tolerance_deg(level.origin, centers[best], params):
+    astray = beside[best] > bearing_tolerance_deg(gaze.origin, observation.forward,
+                                                  centers[best], params)  # fmt: skip
+    if astray or above > pitch_tolerance_deg(level.origin, centers[best], params):
         return FrameJudgement(None, 0.0, GAZE_ELSEWHERE, **seen)
     return FrameJudgement(labels[best], _clarity(scores, best), POINTING, **seen)
 

@@ -6,6 +6,11 @@ import dataclasses
 
 from hsr_handover.literature import HEAD_FRACTION_SD, STIEFELHAGEN_HEAD_FRACTION
 
+HEAD_SHARE_SPREAD = 2.0 * HEAD_FRACTION_SD / STIEFELHAGEN_HEAD_FRACTION
+"""Twice the spread of the head's share of a gaze shift between people, over the usual share
+(2 x 0.08 / 0.689 = 0.23): how far, as a share of the eyes' turn, the gaze read from the face
+as that turn times `head_gain` may miss for a person whose head makes more or less of it."""
+
 POINTING_RAYS = ("shoulder_wrist", "elbow_wrist", "eye_wrist")
 """Where the pointing ray starts (it always runs through the wrist): the shoulder, the elbow
 (eq. 16's forearm) or the midpoint of the eyes (people align eye, finger and target)."""
@@ -15,6 +20,7 @@ _RANGES = {  # (low, high, unit, whether low itself is allowed)
     "gaze_tolerance_deg": (0.0, 90.0, "deg", False), "t_max": (0.0, 10.0, "s", True),
     "gaze_pitch_tolerance_deg": (0.0, 90.0, "deg", False), "gaze_weight": (0.0, 10.0, "", False),
     "gaze_pitch_tolerance_share": (0.0, 1.0, "", True),
+    "gaze_tolerance_share": (0.0, 1.0, "", True),
     "head_gain": (1.0, 3.0, "", True), "face_tilt_deg": (0.0, 90.0, "deg", True),
     "smoothing_s": (0.0, 10.0, "s", True), "steady_deg_s": (0.0, 1000.0, "deg/s", False),
     "bent_gap_s": (0.0, 10.0, "s", True), "pitch_smoothing_s": (0.0, 10.0, "s", True),
@@ -33,6 +39,12 @@ class IntentParams:
     straight_arm_deg: eq. 16's elbow angle from which an arm counts as pointing.
     d_min: how near (m) the pointing ray must pass an object's centre.
     gaze_tolerance_deg: how far (deg, horizontally) the estimated gaze may be off the object.
+    gaze_tolerance_share: or, when more, this share of how far the eyes turn from the torso's
+    forward direction to the object (`HEAD_SHARE_SPREAD`): the gaze is read as the face's
+    turn times `head_gain`, and misses by the person's own head share's difference from the
+    usual, in proportion to the turn. Generated layouts place objects up to 60 degrees from
+    the torso's front, where a head that makes 0.8 of the shift reads 14 degrees past the
+    object: beyond 52 degrees, 12 degrees refused an arm plainly on the object.
     gaze_pitch_tolerance_deg: how far (deg) the estimated gaze may pass above the object.
     gaze_pitch_tolerance_share: or, when more, this share of how far the eyes look down to the
     object. The head makes its own person's share of a gaze shift, down as across, and the
@@ -100,8 +112,9 @@ class IntentParams:
     straight_arm_deg: float = 150.0
     d_min: float = 0.4
     gaze_tolerance_deg: float = 12.0
+    gaze_tolerance_share: float = HEAD_SHARE_SPREAD
     gaze_pitch_tolerance_deg: float = 8.0
-    gaze_pitch_tolerance_share: float = 2.0 * HEAD_FRACTION_SD / STIEFELHAGEN_HEAD_FRACTION
+    gaze_pitch_tolerance_share: float = HEAD_SHARE_SPREAD
     gaze_weight: float = 0.4
     t_max: float = 0.3
     pointing_ray: str = "shoulder_wrist"

@@ -115,6 +115,19 @@ def pitch_tolerance_deg(eyes: np.ndarray, center: np.ndarray, params: IntentPara
     return max(params.gaze_pitch_tolerance_deg, params.gaze_pitch_tolerance_share * down)
 
 
+def bearing_tolerance_deg(
+    eyes: np.ndarray, forward: np.ndarray | None, center: np.ndarray, params: IntentParams
+) -> float:
+    """How far (deg) the eyes' estimated bearing may miss `center`: `gaze_tolerance_deg`, or
+    `gaze_tolerance_share` of how far the eyes turn from the torso's `forward` to look at it
+    when that is more (the turn read from the face errs in proportion to it)."""
+    toward = horizontal(np.asarray(center, dtype=float) - eyes)
+    if forward is None or toward is None:
+        return params.gaze_tolerance_deg
+    turn = math.degrees(math.acos(float(np.clip(toward @ forward, -1.0, 1.0))))
+    return max(params.gaze_tolerance_deg, params.gaze_tolerance_share * turn)
+
+
 def bearing_errors_deg(ray: Ray, points: np.ndarray) -> np.ndarray:
     """Horizontal angle (deg) between the ray and the direction from its origin to each point."""
     heading = horizontal(ray.direction)

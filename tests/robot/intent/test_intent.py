@@ -33,6 +33,7 @@ from hsr_handover.robot.intent.person_rays import (
     NOSE,
     R_EYE,
     bearing_errors_deg,
+    bearing_tolerance_deg,
     face_ray,
     gaze_ray,
     pitch_errors_deg,
@@ -239,6 +240,45 @@ def test_the_eyes_may_pass_further_above_an_object_they_look_further_down_to():
     assert judge_frame(points, confidence, CUPS, lenient).candidate == label
 
 
+def _far_side_look(turn_deg: float, short_deg: float, params: IntentParams):
+    """A person facing +x whose arm points straight at a cup `turn_deg` to their left and
+    whose eyes, read from the face's turn times `head_gain`, fall `short_deg` short of it; a
+    second cup as far to the right."""
+    eyes, forward = np.array([0.0, 0.0, 1.2]), np.array([1.0, 0.0, 0.0])
+    cups = []
+    for side in (1.0, -1.0):
+        yaw = math.radians(side * turn_deg)
+        cups.append(eyes + [0.8 * math.cos(yaw), 0.8 * math.sin(yaw), -0.45])
+    toward = cups[0] - eyes
+    down = math.atan2(toward[2], math.hypot(toward[0], toward[1]))
+    face_yaw = math.radians(turn_deg - short_deg) / params.head_gain
+    face = Ray(eyes, unit_direction(face_yaw, down / params.head_gain))
+    shoulder = eyes + [0.0, 0.18, -0.25]
+    arm = Ray(shoulder, (cups[0] - shoulder) / np.linalg.norm(cups[0] - shoulder))
+    observation = Observation("left", 175.0, arm, face, forward, at_object=True)
+    return observation, [("near", cups[0]), ("far", cups[1])], eyes, forward
+
+
+def test_the_eyes_may_miss_an_object_further_to_the_side_by_a_share_of_their_turn_to_it():
+    """The gaze is the face's turn times `head_gain`, and a person whose head makes more or less
+    of the shift than the usual share misses in proportion to the turn: beyond 52 degrees
+    from the torso's front, `gaze_tolerance_share` of the turn allows more than the fixed
+    `gaze_tolerance_deg` (an arm plainly on a box 60 degrees to the side, the eyes 13.5
+    degrees short of it, is a request; the same eyes on a box ahead are not)."""
+    params = IntentParams()
+    assert params.gaze_tolerance_share == pytest.approx(0.232, abs=0.001)
+    far, candidates, eyes, forward = _far_side_look(60.0, 13.5, params)
+    assert bearing_tolerance_deg(eyes, forward, candidates[0][1], params) == pytest.approx(
+        params.gaze_tolerance_share * 60.0, abs=0.1
+    )
+    assert bearing_tolerance_deg(eyes, None, candidates[0][1], params) == 12.0  # no torso
+    assert judge(far, candidates, params).candidate == "near"
+    fixed = IntentParams(gaze_tolerance_share=0.0)
+    assert judge(far, candidates, fixed).status == GAZE_ELSEWHERE
+    ahead, candidates, _, _ = _far_side_look(8.0, 13.5, params)
+    assert judge(ahead, candidates[:1], params).status == GAZE_ELSEWHERE
+
+
 def test_the_pitch_is_checked_on_the_face_over_the_longer_window():
     """The horizontal bearing is read from `face`; whether the eyes pass above the object from
     `face_for_pitch` (the face averaged over `pitch_smoothing_s`): a face that has looked
@@ -373,6 +413,7 @@ def test_looking_elsewhere_breaks_the_dwell():
         ("pointing_ray", "nose"),
         ("gaze_pitch_tolerance_deg", 0.0),
         ("gaze_pitch_tolerance_share", 1.5),
+        ("gaze_tolerance_share", -0.1),
         ("gaze_weight", 0.0),
     ],  # fmt: skip
 )
