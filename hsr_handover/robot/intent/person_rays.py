@@ -27,10 +27,17 @@ ARMS = {
 NOSE, R_EYE, L_EYE = (keypoint_index(name) for name in ("nose", "r_eye", "l_eye"))
 NECK = keypoint_index("neck")
 R_SHOULDER, L_SHOULDER = keypoint_index("r_shoulder"), keypoint_index("l_shoulder")
-# Pairs (a point on the person's right, one on their left) across the torso; for a pointing
-# arm, its own shoulder is left out: lifted, it lands on the raised arm, a hand's width off.
+# Pairs (a point on the person's right, one on their left) across the torso, the widest
+# first; for a pointing arm, its own shoulder is left out: lifted, it lands on the raised arm,
+# a hand's width off. A seated person's hips are under the table, and one shoulder can go
+# unseen for a whole gesture: then the neck and the other shoulder.
 TORSO_PAIRS = {
-    None: ((R_SHOULDER, L_SHOULDER), (keypoint_index("r_hip"), keypoint_index("l_hip"))),
+    None: (
+        (R_SHOULDER, L_SHOULDER),
+        (keypoint_index("r_hip"), keypoint_index("l_hip")),
+        (R_SHOULDER, NECK),
+        (NECK, L_SHOULDER),
+    ),
     "right": ((NECK, L_SHOULDER),),
     "left": ((R_SHOULDER, NECK),),
 }
@@ -75,8 +82,9 @@ def face_ray(
 def torso_forward(
     points: np.ndarray, confidence: np.ndarray, pointing_arm: str | None = None
 ) -> np.ndarray | None:
-    """The horizontal direction the torso faces, square to the shoulders (or else the hips);
-    with a `pointing_arm`, square to the neck and the other shoulder."""
+    """The horizontal direction the torso faces, square to the shoulders (or else the hips, or
+    else a shoulder and the neck); with a `pointing_arm`, square to the neck and the other
+    shoulder."""
     for right, left in TORSO_PAIRS[pointing_arm]:
         if seen(points, confidence, (right, left)):
             forward = horizontal(np.cross(points[left] - points[right], UP))

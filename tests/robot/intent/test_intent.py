@@ -451,12 +451,17 @@ def test_the_smoother_restarts_the_pointing_ray_when_the_arm_changes():
     np.testing.assert_allclose(mixed.pointing.direction, np.array([1, 1, 0]) / np.sqrt(2))
 
 
-def test_the_torso_faces_square_to_the_shoulders_or_the_hips():
+def test_the_torso_faces_square_to_the_shoulders_or_the_hips_or_a_shoulder_and_the_neck():
+    """A seated person's hips are under the table, and a shoulder can stay unseen for a whole
+    gesture: the neck and the other shoulder still give the torso's direction (without it the
+    gaze is the face's own heading, short of the eyes' turn by the eyes' share)."""
     points, confidence = keypoints()
     np.testing.assert_allclose(torso_forward(points, confidence), [-1.0, 0.0, 0.0], atol=1e-9)
     no_shoulder = _without(confidence, "r_shoulder")
     np.testing.assert_allclose(torso_forward(points, no_shoulder), [-1.0, 0.0, 0.0], atol=1e-9)
-    assert torso_forward(points, _without(no_shoulder, "l_hip")) is None
+    no_hips = _without(no_shoulder, "l_hip")
+    np.testing.assert_allclose(torso_forward(points, no_hips), [-1.0, 0.0, 0.0], atol=0.02)
+    assert torso_forward(points, _without(no_hips, "neck")) is None
 
 
 def test_the_eyes_turn_head_gain_times_as_far_as_the_face():
