@@ -108,9 +108,9 @@ def judge(
 ) -> FrameJudgement:
     """The object the observed rays ask for among the (label, centre) candidates: the one with
     the least (d / d_min)^2 + gaze_weight (gaze error / gaze_tolerance_deg)^2, if both are
-    within bounds (the gaze's within `bearing_tolerance_deg` and `pitch_tolerance_deg`). (A
-    centre object can be the right answer when the arm errs toward one
-    neighbour and the eyes toward the other.)"""
+    within bounds (the gaze's: `bearing_tolerance_deg` beside it, `pitch_tolerance_deg` above
+    it). (A centre object can be the right answer when the arm errs toward one neighbour and
+    the eyes toward the other.)"""
     labels = [label for label, _ in candidates]
     centers = np.array([center for _, center in candidates], dtype=float).reshape(-1, 3)
     face, ray = observation.face, observation.pointing

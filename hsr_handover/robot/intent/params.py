@@ -43,8 +43,8 @@ class IntentParams:
     forward direction to the object (`HEAD_SHARE_SPREAD`): the gaze is read as the face's
     turn times `head_gain`, and misses by the person's own head share's difference from the
     usual, in proportion to the turn. Generated layouts place objects up to 60 degrees from
-    the torso's front, where a head that makes 0.8 of the shift reads 14 degrees past the
-    object: beyond 52 degrees, 12 degrees refused an arm plainly on the object.
+    the torso's front, where a head that makes 0.85 of the shift (two spreads over the usual
+    0.689) reads 14 degrees past the object: the fixed 12 degrees refused arms plainly on it.
     gaze_pitch_tolerance_deg: how far (deg) the estimated gaze may pass above the object.
     gaze_pitch_tolerance_share: or, when more, this share of how far the eyes look down to the
     object. The head makes its own person's share of a gaze shift, down as across, and the
