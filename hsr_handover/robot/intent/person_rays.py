@@ -13,6 +13,7 @@ from hsr_handover.interface.coco18 import keypoint_index
 from hsr_handover.robot.intent.params import IntentParams
 from hsr_handover.robot.intent.rays import (
     Ray,
+    angle_deg,
     elbow_angle_deg,
     face_normal,
     tilt_down,
@@ -132,8 +133,7 @@ def bearing_tolerance_deg(
     toward = horizontal(np.asarray(center, dtype=float) - eyes)
     if forward is None or toward is None:
         return params.gaze_tolerance_deg
-    turn = math.degrees(math.acos(float(np.clip(toward @ forward, -1.0, 1.0))))
-    return max(params.gaze_tolerance_deg, params.gaze_tolerance_share * turn)
+    return max(params.gaze_tolerance_deg, params.gaze_tolerance_share * angle_deg(toward, forward))
 
 
 def bearing_errors_deg(ray: Ray, points: np.ndarray) -> np.ndarray:

@@ -247,7 +247,7 @@ class IntentTracker:
         if state.correction is not None:
             return state
         if not watch.armed:
-            if observed is not None and observed.pointing is not None and observed.at_object:
+            if observed is not None and observed.at_object:
                 watch = _CorrectionWatch()  # the first gesture still points
             elif math.isnan(watch.free_since):
                 watch = _CorrectionWatch(free_since=time)
