@@ -21,6 +21,7 @@ from hsr_handover.world.person.aiming import (
     rot_z,
 )
 from hsr_handover.world.person.body import (
+    FOREARM_RADIUS,
     HAND_THICKNESS,
     PERSON_JOINTS,
     BodyDimensions,
@@ -41,15 +42,12 @@ MIN_MOVE_TIME = 0.6  # s
 LIFT_ELBOW = -0.8
 LIFT_SHARE = 0.5
 OVER_TABLE = 0.02
-"""m a seated person's resting hands keep over the table's top. Forearms resting level sit at
-0.70-0.76 m, under the top of a high table (0.80 m): a hand whose tip rested a few cm from the
-table's edge met the edge as the arm swung out, and stayed there for the whole gesture: the
-person never pointed. At such a table the forearms rest
-tilted up, the elbows bent further, as people hold their hands over a table's edge; and where
-the elbow would still be under the top, the upper arm comes forward until it is over it (the
-forearms rest on the table): a 1.55 m person seated at a 0.77 m table, elbow under the top and
-hand over it, jammed the forearm against the edge from below as the arm swung up to point
-(700 N; generated layouts)."""
+"""m a seated person's resting forearms and hands keep over the table's top. Forearms resting
+level sit at 0.70-0.76 m, under the top of a high table (0.80 m): a hand whose tip rested a few
+cm from the table's edge met the edge as the arm swung out, and stayed there for the whole
+gesture: the person never pointed; and an elbow under the top with the hand over it jammed the
+forearm against the edge from below as the arm swung up to point (700 N; generated layouts). At
+such a table the forearms rest on it, as people rest theirs (`_raise_hand_over`)."""
 RAISE_STEP = 0.1  # rad: the elbow (or the shoulder) turns by steps of this
 WITHDRAW_ELBOW = -1.6
 """rad: a pointing hand held over an object is drawn back by bending the elbow this far (the
@@ -98,8 +96,8 @@ def rest_posture(body: BodyDimensions, table_top: float | None = None) -> np.nda
     front of the body (as on armrests), above table height: every joint-space move from there
     to a pointing or reaching arm then keeps the hand above the table top rather than sweeping
     it under the table's edge. At a table whose top (`table_top`, m, person frame; None: no
-    table) is higher than that, the seated person's hands rest OVER_TABLE over it, and so do a
-    standing person's whose hanging hands are below it: swung out from hanging, a 1.50 m
+    table) is higher than that, the seated person's forearms and hands rest OVER_TABLE over it,
+    and so do a standing person's whose hanging hands are below it: swung out from hanging, a 1.50 m
     person's hand met the edge of a 0.85 m table from below and stayed jammed under it for the
     whole gesture (130 N; generated layouts), as no one's does."""
     q = np.zeros(len(PERSON_JOINTS))
@@ -123,23 +121,27 @@ def _hands_under(body: BodyDimensions, q: np.ndarray, table_top: float) -> bool:
 
 
 def _raise_hand_over(body: BodyDimensions, arm: str, q: np.ndarray, height: float) -> None:
-    """Bring the `arm`'s upper arm forward in `q` until its elbow is over `height`, then bend
-    its elbow until the hand's lowest point (its axis, wrist to tips, less half its thickness)
-    is over it: by RAISE_STEP at a time, within the joints' limits."""
+    """Rest the `arm`'s forearm and hand over `height` in `q`, as people rest theirs on a
+    table: unless the hand is over it already, the upper arm comes forward until the forearm's
+    underside at the elbow is over it, and the elbow then takes the least flexion (from
+    straight, by RAISE_STEP at a time, within its limits) that brings the forearm and hand over
+    it. The forearms lie about level just over the top: kept at the bent elbow of the
+    armrest-like rest, the raised upper arm tilts them 45-62 deg up, the hands before the chest
+    and face, where they hid the nose and neck from the robot for whole trials (generated
+    layouts, tables from 0.74 m)."""
     joints = arm_joint_indices(arm)
     pitch, elbow = joints[0], joints[3]
-    forward_most = joint_limits(PERSON_JOINTS[pitch])[0]
     if _hand_low(body, arm, q) >= height:
         return  # the hand rests over the table as it is: the arm stays as it is
+    forward_most = joint_limits(PERSON_JOINTS[pitch])[0]
     while (
-        arm_points(body, arm, q[joints])["elbow"][2] < height
+        arm_points(body, arm, q[joints])["elbow"][2] - FOREARM_RADIUS < height
         and q[pitch] - RAISE_STEP >= forward_most
     ):
         q[pitch] -= RAISE_STEP
-    lowest = joint_limits(PERSON_JOINTS[elbow])[0]
-    while q[elbow] - RAISE_STEP >= lowest:
-        if _hand_low(body, arm, q) >= height:
-            return
+    lowest, straight = joint_limits(PERSON_JOINTS[elbow])
+    q[elbow] = straight
+    while q[elbow] - RAISE_STEP >= lowest and _arm_low(body, arm, q) < height:
         q[elbow] -= RAISE_STEP
 
 
@@ -147,6 +149,15 @@ def _hand_low(body: BodyDimensions, arm: str, q: np.ndarray) -> float:
     """The height (m) of the lowest point of the `arm`'s hand's axis, less half its thickness."""
     points = arm_points(body, arm, q[arm_joint_indices(arm)])
     return min(points["wrist"][2], points["tips"][2]) - HAND_THICKNESS / 2
+
+
+def _arm_low(body: BodyDimensions, arm: str, q: np.ndarray) -> float:
+    """The height (m) of the lowest point of the `arm`'s forearm and hand in posture `q`: their
+    axes, less the forearm's radius and half the hand's thickness."""
+    points = arm_points(body, arm, q[arm_joint_indices(arm)])
+    return min(
+        min(points["elbow"][2], points["wrist"][2]) - FOREARM_RADIUS, _hand_low(body, arm, q)
+    )
 
 
 def aim_head(body: BodyDimensions, point: np.ndarray) -> np.ndarray:

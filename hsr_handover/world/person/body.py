@@ -16,6 +16,7 @@ import numpy as np
 SEAT_HEIGHT = 0.45
 HIP_ABOVE_SEAT = 0.09
 HAND_WIDTH, HAND_THICKNESS = 0.08, 0.03  # m: the hand's box, across the palm and through it
+UPPER_ARM_RADIUS, FOREARM_RADIUS = 0.045, 0.035  # m: the arm segments' capsules
 
 # Person joints in the order the actor and the model use. Arms: shoulder pitch (about y),
 # roll (about x), yaw (about the upper arm), elbow (about y), wrist (about y).

@@ -12,7 +12,13 @@ from __future__ import annotations
 import numpy as np
 
 from hsr_handover.world.person.behavior import joint_limits
-from hsr_handover.world.person.body import HAND_THICKNESS, HAND_WIDTH, BodyDimensions
+from hsr_handover.world.person.body import (
+    FOREARM_RADIUS,
+    HAND_THICKNESS,
+    HAND_WIDTH,
+    UPPER_ARM_RADIUS,
+    BodyDimensions,
+)
 from hsr_handover.world.scene.sdf_shapes import (
     box_geometry,
     box_inertia,
@@ -142,10 +148,18 @@ def _arm(body: BodyDimensions, side: str) -> str:
     wrist = elbow - np.array([0, 0, body.forearm])
     small = (1e-4, 1e-4, 1e-4)
     upper_geometry = capsule_shape(
-        f"{p}upper_arm", 0.045, body.upper_arm - 0.09, (0, 0, -body.upper_arm / 2, 0, 0, 0), SHIRT
+        f"{p}upper_arm",
+        UPPER_ARM_RADIUS,
+        body.upper_arm - 2 * UPPER_ARM_RADIUS,
+        (0, 0, -body.upper_arm / 2, 0, 0, 0),
+        SHIRT,
     )
     fore_geometry = capsule_shape(
-        f"{p}forearm", 0.035, body.forearm - 0.07, (0, 0, -body.forearm / 2, 0, 0, 0), SKIN
+        f"{p}forearm",
+        FOREARM_RADIUS,
+        body.forearm - 2 * FOREARM_RADIUS,
+        (0, 0, -body.forearm / 2, 0, 0, 0),
+        SKIN,
     )
     hand_size = (HAND_WIDTH, HAND_THICKNESS, body.hand)
     hand_geometry = shape(
@@ -158,11 +172,15 @@ def _arm(body: BodyDimensions, side: str) -> str:
             f"{p}upper_arm",
             shoulder,
             2.0,
-            cylinder_inertia(2.0, 0.045, body.upper_arm),
+            cylinder_inertia(2.0, UPPER_ARM_RADIUS, body.upper_arm),
             upper_geometry,
         )
         + _link(
-            f"{p}forearm", elbow, 1.2, cylinder_inertia(1.2, 0.035, body.forearm), fore_geometry
+            f"{p}forearm",
+            elbow,
+            1.2,
+            cylinder_inertia(1.2, FOREARM_RADIUS, body.forearm),
+            fore_geometry,
         )
         + _link(f"{p}hand", wrist, 0.45, box_inertia(0.45, hand_size), hand_geometry)
     )

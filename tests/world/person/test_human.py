@@ -20,6 +20,7 @@ from hsr_handover.world.person.behavior import (
     target_posture,
 )
 from hsr_handover.world.person.body import (
+    FOREARM_RADIUS,
     HAND_THICKNESS,
     PERSON_JOINTS,
     BodyDimensions,
@@ -169,6 +170,23 @@ def test_seated_hands_and_elbows_rest_over_a_table_higher_than_the_resting_forea
     np.testing.assert_array_equal(high[unchanged], level[unchanged])
     standing = BodyDimensions.from_height(1.70, seated=False)  # hands hang beside the body
     np.testing.assert_array_equal(rest_posture(standing, 0.5), rest_posture(standing))
+
+
+@pytest.mark.parametrize("height", [1.50, 1.70, 1.95])
+@pytest.mark.parametrize("top", [0.78, 0.85])
+def test_seated_forearms_rest_level_on_a_high_table_not_raised_before_the_face(height, top):
+    """Kept bent as on armrests while the upper arm came forward, the forearms rose 45-62 deg
+    and the hands hid the nose and neck from the robot; people rest them on the table."""
+    body = BodyDimensions.from_height(height, seated=True)
+    rest = rest_posture(body, top)
+    for arm in ("right", "left"):
+        points = arm_points(body, arm, rest[arm_joint_indices(arm)])
+        forearm = points["wrist"] - points["elbow"]
+        elevation = np.degrees(np.arctan2(forearm[2], np.hypot(forearm[0], forearm[1])))
+        assert abs(elevation) <= 10.0
+        underside = min(points["elbow"][2], points["wrist"][2]) - FOREARM_RADIUS
+        assert underside >= top + OVER_TABLE  # the whole forearm over the top, not in it
+        assert _hand_bottom(body, rest, arm) <= top + OVER_TABLE + 0.06  # on it, not over it
 
 
 def test_standing_hands_under_a_table_top_rest_over_it_instead():
