@@ -8,6 +8,7 @@ look like a person's (smooth, bell-shaped speed) rather than a servo's.
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -49,6 +50,11 @@ gesture: the person never pointed; and an elbow under the top with the hand over
 forearm against the edge from below as the arm swung up to point (700 N; generated layouts). At
 such a table the forearms rest on it, as people rest theirs (`_raise_hand_over`)."""
 RAISE_STEP = 0.1  # rad: the elbow (or the shoulder) turns by steps of this
+FOLDED_ELBOW_DEG = 130.0
+"""deg: the most a forearm folded on a high table opens the elbow (its inside angle). Lying
+level with the least bend alone, the forearms lay out on the table nearly straight (140-169
+deg), arms stretched out toward the objects ahead, which read as pointing at them; people
+fold theirs, the forearms turned in before the body."""
 WITHDRAW_ELBOW = -1.6
 """rad: a pointing hand held over an object is drawn back by bending the elbow this far (the
 forearm about square to the upper arm) before the arm lowers: lowered straight from the point
@@ -121,16 +127,15 @@ def _hands_under(body: BodyDimensions, q: np.ndarray, table_top: float) -> bool:
 
 
 def _raise_hand_over(body: BodyDimensions, arm: str, q: np.ndarray, height: float) -> None:
-    """Rest the `arm`'s forearm and hand over `height` in `q`, as people rest theirs on a
-    table: unless the hand is over it already, the upper arm comes forward until the forearm's
-    underside at the elbow is over it, and the elbow then takes the least flexion (from
-    straight, by RAISE_STEP at a time, within its limits) that brings the forearm and hand over
-    it. The forearms lie about level just over the top: kept at the bent elbow of the
-    armrest-like rest, the raised upper arm tilts them 45-62 deg up, the hands before the chest
-    and face, where they hid the nose and neck from the robot for whole trials (generated
-    layouts, tables from 0.74 m)."""
+    """Rest the `arm`'s forearm and hand over `height` in `q`, folded on the table as people
+    rest theirs: unless the hand is over it already, the upper arm comes forward until the
+    forearm's underside at the elbow is over it; then, of the elbow bends that open it at most
+    FOLDED_ELBOW_DEG and the inward turns of the upper arm (by RAISE_STEP, within the joints'
+    limits) that keep the forearm and hand over `height` and the wrist on its own side of the
+    body, the one whose forearm lies most level (the least turn and bend on a tie). None
+    found, the elbow bends from straight until the forearm and hand are over it."""
     joints = arm_joint_indices(arm)
-    pitch, elbow = joints[0], joints[3]
+    pitch, yaw, elbow = joints[0], joints[2], joints[3]
     if _hand_low(body, arm, q) >= height:
         return  # the hand rests over the table as it is: the arm stays as it is
     forward_most = joint_limits(PERSON_JOINTS[pitch])[0]
@@ -139,10 +144,40 @@ def _raise_hand_over(body: BodyDimensions, arm: str, q: np.ndarray, height: floa
         and q[pitch] - RAISE_STEP >= forward_most
     ):
         q[pitch] -= RAISE_STEP
+    folded = _folded_on(body, arm, q, height)
+    if folded is not None:
+        q[yaw], q[elbow] = folded
+        return
     lowest, straight = joint_limits(PERSON_JOINTS[elbow])
     q[elbow] = straight
     while q[elbow] - RAISE_STEP >= lowest and _arm_low(body, arm, q) < height:
         q[elbow] -= RAISE_STEP
+
+
+def _folded_on(
+    body: BodyDimensions, arm: str, q: np.ndarray, height: float
+) -> tuple[float, float] | None:
+    """The (shoulder yaw, elbow) of `_raise_hand_over`'s folded forearm, or None."""
+    joints = arm_joint_indices(arm)
+    yaw, elbow = joints[2], joints[3]
+    inward = -side_sign(arm)  # the yaw that turns the forearm toward the body's middle
+    inward_most = abs(joint_limits(PERSON_JOINTS[yaw])[inward > 0])
+    bent_least = math.radians(180.0 - FOLDED_ELBOW_DEG)
+    lowest = joint_limits(PERSON_JOINTS[elbow])[0]
+    turns = np.arange(0.0, inward_most + 1e-9, RAISE_STEP)
+    bends = np.arange(bent_least, -lowest + 1e-9, RAISE_STEP)
+    trial, best, chosen = q.copy(), math.inf, None
+    for turn in turns:
+        for bend in bends:
+            trial[yaw], trial[elbow] = inward * turn, -bend
+            points = arm_points(body, arm, trial[joints])
+            if _arm_low(body, arm, trial) < height or inward * points["wrist"][1] > 0.0:
+                continue
+            forearm = points["wrist"] - points["elbow"]
+            tilt = abs(math.atan2(forearm[2], math.hypot(forearm[0], forearm[1])))
+            if tilt < best - 1e-9:
+                best, chosen = tilt, (inward * turn, -bend)
+    return chosen
 
 
 def _hand_low(body: BodyDimensions, arm: str, q: np.ndarray) -> float:
