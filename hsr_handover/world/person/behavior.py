@@ -8,7 +8,6 @@ look like a person's (smooth, bell-shaped speed) rather than a servo's.
 from __future__ import annotations
 
 import dataclasses
-import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -22,7 +21,6 @@ from hsr_handover.world.person.aiming import (
     rot_z,
 )
 from hsr_handover.world.person.body import (
-    FOREARM_RADIUS,
     HAND_THICKNESS,
     PERSON_JOINTS,
     BodyDimensions,
@@ -43,18 +41,16 @@ MIN_MOVE_TIME = 0.6  # s
 LIFT_ELBOW = -0.8
 LIFT_SHARE = 0.5
 OVER_TABLE = 0.02
-"""m a seated person's resting forearms and hands keep over the table's top. Forearms resting
-level sit at 0.70-0.76 m, under the top of a high table (0.80 m): a hand whose tip rested a few
-cm from the table's edge met the edge as the arm swung out, and stayed there for the whole
-gesture: the person never pointed; and an elbow under the top with the hand over it jammed the
-forearm against the edge from below as the arm swung up to point (700 N; generated layouts). At
-such a table the forearms rest on it, as people rest theirs (`_raise_hand_over`)."""
+"""m a seated person's resting hands keep over the table's top. Forearms resting level sit at
+0.70-0.76 m, under the top of a high table (0.80 m): a hand whose tip rested a few cm from the
+table's edge met the edge as the arm swung out, and stayed there for the whole gesture: the
+person never pointed. At such a table the forearms rest
+tilted up, the elbows bent further, as people hold their hands over a table's edge; and where
+the elbow would still be under the top, the upper arm comes forward until it is over it (the
+forearms rest on the table): a 1.55 m person seated at a 0.77 m table, elbow under the top and
+hand over it, jammed the forearm against the edge from below as the arm swung up to point
+(700 N; generated layouts)."""
 RAISE_STEP = 0.1  # rad: the elbow (or the shoulder) turns by steps of this
-FOLDED_ELBOW_DEG = 130.0
-"""deg: the most a forearm folded on a high table opens the elbow (its inside angle). Lying
-level with the least bend alone, the forearms lay out on the table nearly straight (140-169
-deg), arms stretched out toward the objects ahead, which read as pointing at them; people
-fold theirs, the forearms turned in before the body."""
 WITHDRAW_ELBOW = -1.6
 """rad: a pointing hand held over an object is drawn back by bending the elbow this far (the
 forearm about square to the upper arm) before the arm lowers: lowered straight from the point
@@ -102,8 +98,8 @@ def rest_posture(body: BodyDimensions, table_top: float | None = None) -> np.nda
     front of the body (as on armrests), above table height: every joint-space move from there
     to a pointing or reaching arm then keeps the hand above the table top rather than sweeping
     it under the table's edge. At a table whose top (`table_top`, m, person frame; None: no
-    table) is higher than that, the seated person's forearms and hands rest OVER_TABLE over it,
-    and so do a standing person's whose hanging hands are below it: swung out from hanging, a 1.50 m
+    table) is higher than that, the seated person's hands rest OVER_TABLE over it, and so do a
+    standing person's whose hanging hands are below it: swung out from hanging, a 1.50 m
     person's hand met the edge of a 0.85 m table from below and stayed jammed under it for the
     whole gesture (130 N; generated layouts), as no one's does."""
     q = np.zeros(len(PERSON_JOINTS))
@@ -127,72 +123,30 @@ def _hands_under(body: BodyDimensions, q: np.ndarray, table_top: float) -> bool:
 
 
 def _raise_hand_over(body: BodyDimensions, arm: str, q: np.ndarray, height: float) -> None:
-    """Rest the `arm`'s forearm and hand over `height` in `q`, folded on the table as people
-    rest theirs: unless the hand is over it already, the upper arm comes forward until the
-    forearm's underside at the elbow is over it; then, of the elbow bends that open it at most
-    FOLDED_ELBOW_DEG and the inward turns of the upper arm (by RAISE_STEP, within the joints'
-    limits) that keep the forearm and hand over `height` and the wrist on its own side of the
-    body, the one whose forearm lies most level (the least turn and bend on a tie). None
-    found, the elbow bends from straight until the forearm and hand are over it."""
+    """Bring the `arm`'s upper arm forward in `q` until its elbow is over `height`, then bend
+    its elbow until the hand's lowest point (its axis, wrist to tips, less half its thickness)
+    is over it: by RAISE_STEP at a time, within the joints' limits."""
     joints = arm_joint_indices(arm)
-    pitch, yaw, elbow = joints[0], joints[2], joints[3]
+    pitch, elbow = joints[0], joints[3]
+    forward_most = joint_limits(PERSON_JOINTS[pitch])[0]
     if _hand_low(body, arm, q) >= height:
         return  # the hand rests over the table as it is: the arm stays as it is
-    forward_most = joint_limits(PERSON_JOINTS[pitch])[0]
     while (
-        arm_points(body, arm, q[joints])["elbow"][2] - FOREARM_RADIUS < height
+        arm_points(body, arm, q[joints])["elbow"][2] < height
         and q[pitch] - RAISE_STEP >= forward_most
     ):
         q[pitch] -= RAISE_STEP
-    folded = _folded_on(body, arm, q, height)
-    if folded is not None:
-        q[yaw], q[elbow] = folded
-        return
-    lowest, straight = joint_limits(PERSON_JOINTS[elbow])
-    q[elbow] = straight
-    while q[elbow] - RAISE_STEP >= lowest and _arm_low(body, arm, q) < height:
-        q[elbow] -= RAISE_STEP
-
-
-def _folded_on(
-    body: BodyDimensions, arm: str, q: np.ndarray, height: float
-) -> tuple[float, float] | None:
-    """The (shoulder yaw, elbow) of `_raise_hand_over`'s folded forearm, or None."""
-    joints = arm_joint_indices(arm)
-    yaw, elbow = joints[2], joints[3]
-    inward = -side_sign(arm)  # the yaw that turns the forearm toward the body's middle
-    inward_most = abs(joint_limits(PERSON_JOINTS[yaw])[inward > 0])
-    bent_least = math.radians(180.0 - FOLDED_ELBOW_DEG)
     lowest = joint_limits(PERSON_JOINTS[elbow])[0]
-    turns = np.arange(0.0, inward_most + 1e-9, RAISE_STEP)
-    bends = np.arange(bent_least, -lowest + 1e-9, RAISE_STEP)
-    trial, best, chosen = q.copy(), math.inf, None
-    for turn in turns:
-        for bend in bends:
-            trial[yaw], trial[elbow] = inward * turn, -bend
-            points = arm_points(body, arm, trial[joints])
-            if _arm_low(body, arm, trial) < height or inward * points["wrist"][1] > 0.0:
-                continue
-            forearm = points["wrist"] - points["elbow"]
-            tilt = abs(math.atan2(forearm[2], math.hypot(forearm[0], forearm[1])))
-            if tilt < best - 1e-9:
-                best, chosen = tilt, (inward * turn, -bend)
-    return chosen
+    while q[elbow] - RAISE_STEP >= lowest:
+        if _hand_low(body, arm, q) >= height:
+            return
+        q[elbow] -= RAISE_STEP
 
 
 def _hand_low(body: BodyDimensions, arm: str, q: np.ndarray) -> float:
     """The height (m) of the lowest point of the `arm`'s hand's axis, less half its thickness."""
     points = arm_points(body, arm, q[arm_joint_indices(arm)])
     return min(points["wrist"][2], points["tips"][2]) - HAND_THICKNESS / 2
-
-
-def _arm_low(body: BodyDimensions, arm: str, q: np.ndarray) -> float:
-    """The height (m) of the lowest point of the `arm`'s forearm and hand in posture `q`: their
-    axes, less the forearm's radius and half the hand's thickness."""
-    points = arm_points(body, arm, q[arm_joint_indices(arm)])
-    return min(
-        min(points["elbow"][2], points["wrist"][2]) - FOREARM_RADIUS, _hand_low(body, arm, q)
-    )
 
 
 def aim_head(body: BodyDimensions, point: np.ndarray) -> np.ndarray:
