@@ -18,7 +18,7 @@ import numpy as np
 from hsr_handover.robot.intent.rays import angle_deg
 from hsr_handover.scenario import ImprecisionConfig, Scenario, object_center
 from hsr_handover.world.person.behavior import aim_head, rest_posture, target_posture
-from hsr_handover.world.person.body import PERSON_JOINTS, BodyDimensions
+from hsr_handover.world.person.body import PERSON_JOINTS
 from hsr_handover.world.person.imprecision import pointing_sigma_deg
 from hsr_handover.world.station.world import person_actions, person_pose
 
@@ -63,7 +63,7 @@ def most_likely_asked(
 def arm_aim(scenario: Scenario) -> ArmAim | None:
     """The first pointing gesture of the scenario's script as the person makes it (with the
     drawn pointing error and head share), None when the script holds none."""
-    body = BodyDimensions.from_height(scenario.person.height, scenario.person.posture == "seated")
+    body = scenario.person.body()
     to_person = person_pose(scenario).inverse()
     rest_yaw = rest_posture(body)[NECK_YAW]
     for action in person_actions(scenario, body):

@@ -390,6 +390,7 @@ def _check_person(scenario: Scenario, fail: Fail) -> None:
     _number(fail, "person.yaw", person.yaw, YAW)
     _number(fail, "person.height", person.height, Interval(1.2, 2.1, "m, an adult"))
     _choice(fail, "person.posture", person.posture, ("seated", "standing"))
+    _number(fail, "person.seat_height", person.seat_height, Interval(0.3, 0.9, "m"))
     _number(fail, "person.receiving.reaction_s", person.receiving.reaction_s, Interval(0, 10, "s"))
     _choice(fail, "person.receiving.arm", person.receiving.arm, ("right", "left"))
     _number(fail, "person.receiving.repeat_after_s", person.receiving.repeat_after_s,

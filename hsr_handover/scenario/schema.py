@@ -19,6 +19,7 @@ from hsr_handover.robot.intent import IntentParams
 from hsr_handover.robot.perception.attention import DEFAULT_ATTENTION_WEIGHT
 from hsr_handover.robot.perception.cloud_map import SCENE_GNG_PARAMS, SIGNALS_PER_FRAME
 from hsr_handover.scenario.typed_yaml import YAML_KEY, shorten
+from hsr_handover.world.person.body import SEAT_HEIGHT, BodyDimensions
 from hsr_handover.world.person.imprecision import Imprecision
 from hsr_handover.world.person.receiving import ReceivingParams
 from hsr_handover.world.sensors.detector_model import PRESETS, DetectorModel
@@ -203,19 +204,26 @@ class ReceivingConfig:
 @dataclasses.dataclass
 class PersonConfig:
     """An adult at the table: feet position [x, y] and yaw (facing its +x), height, posture
-    ("seated" or "standing"), the behaviour script, how imprecisely they point and look, and
-    how much they vary between an experiment's trials.
+    ("seated" or "standing"), the seat's height (its top, seated only: a dining chair's by
+    default, a bar stool's at a bar table), the behaviour script, how imprecisely they point
+    and look, and how much they vary between an experiment's trials.
 
-    Ranges: position each in [-20, 20] m; yaw in [-2pi, 2pi] rad; height in [1.2, 2.1] m."""
+    Ranges: position each in [-20, 20] m; yaw in [-2pi, 2pi] rad; height in [1.2, 2.1] m;
+    seat_height in [0.3, 0.9] m."""
 
     position: list[float] = field(default_factory=lambda: [1.55, 0.0])
     yaw: float = 3.141592653589793
     height: float = 1.70
     posture: str = "seated"
+    seat_height: float = SEAT_HEIGHT
     behavior: list[ActionConfig] = field(default_factory=list)
     imprecision: ImprecisionConfig = field(default_factory=ImprecisionConfig)
     variation: VariationConfig = field(default_factory=VariationConfig)
     receiving: ReceivingConfig = field(default_factory=ReceivingConfig)
+
+    def body(self) -> BodyDimensions:
+        """The person's body dimensions, standing or on their seat."""
+        return BodyDimensions.from_height(self.height, self.posture == "seated", self.seat_height)
 
 
 @dataclasses.dataclass

@@ -214,6 +214,11 @@ BROKEN = {
         "camera.rate_hz",
         "expected a number in [1, 120] (Hz), got 1e+308",
     ),
+    "a seat no one sits on": (
+        _set("person.seat_height", 1.5),
+        "person.seat_height",
+        "expected a number in [0.3, 0.9] (m), got 1.5",
+    ),
     "camera intrinsics short of four": (
         _set("camera.intrinsics", [500.0, 500.0, 320.0]),
         "camera.intrinsics",

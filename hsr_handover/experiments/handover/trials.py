@@ -17,7 +17,7 @@ import numpy as np
 from hsr_handover.experiments.intent.trials import script, trial_layout
 from hsr_handover.robot.handover.look_round import LOOK_ROUND_S
 from hsr_handover.scenario import ActionConfig, Scenario
-from hsr_handover.world.person.body import BodyDimensions, side_sign
+from hsr_handover.world.person.body import side_sign
 from hsr_handover.world.station import person_pose
 
 TIME_LIMIT_S = 60.0
@@ -96,7 +96,7 @@ def _make_trial(base: Scenario, index: int, takes: bool, rng, layouts: str) -> H
 def _hold_out_point(scenario: Scenario, offset: np.ndarray) -> np.ndarray:
     """HOLD_OUT from the receiving shoulder, moved by `offset` (person frame), in the world."""
     person = scenario.person
-    body = BodyDimensions.from_height(person.height, person.posture == "seated")
+    body = person.body()
     arm = person.receiving.arm
     local = body.shoulder(arm) + HOLD_OUT * [1.0, side_sign(arm), 1.0] + offset
     return person_pose(scenario) @ local

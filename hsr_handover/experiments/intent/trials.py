@@ -190,4 +190,4 @@ def _head_side(scenario: Scenario, arm: str) -> np.ndarray:
 
 
 def _body(scenario: Scenario) -> BodyDimensions:
-    return BodyDimensions.from_height(scenario.person.height, scenario.person.posture == "seated")
+    return scenario.person.body()

@@ -13,7 +13,7 @@ import dataclasses
 
 import numpy as np
 
-SEAT_HEIGHT = 0.45
+SEAT_HEIGHT = 0.45  # m: a dining chair's seat, the default (`PersonConfig.seat_height`)
 HIP_ABOVE_SEAT = 0.09
 HAND_WIDTH, HAND_THICKNESS = 0.08, 0.03  # m: the hand's box, across the palm and through it
 UPPER_ARM_RADIUS, FOREARM_RADIUS = 0.045, 0.035  # m: the arm segments' capsules
@@ -44,10 +44,12 @@ def side_sign(side: str) -> float:
 
 @dataclasses.dataclass(frozen=True)
 class BodyDimensions:
-    """Lengths (m) and rest positions of an adult of a given height, standing or seated."""
+    """Lengths (m) and rest positions of an adult of a given height, standing or seated (on a
+    seat `seat_height` m high: its top; standing, unused)."""
 
     height: float
     seated: bool
+    seat_height: float
     hip_z: float
     shoulder_z: float
     shoulder_half_width: float
@@ -63,13 +65,16 @@ class BodyDimensions:
     head_radius: float
 
     @classmethod
-    def from_height(cls, height: float, seated: bool) -> BodyDimensions:
+    def from_height(
+        cls, height: float, seated: bool, seat_height: float = SEAT_HEIGHT
+    ) -> BodyDimensions:
         h = height
         trunk = (0.818 - 0.530) * h
-        hip_z = SEAT_HEIGHT + HIP_ABOVE_SEAT if seated else 0.530 * h
+        hip_z = seat_height + HIP_ABOVE_SEAT if seated else 0.530 * h
         return cls(
             height=h,
             seated=seated,
+            seat_height=seat_height,
             hip_z=hip_z,
             shoulder_z=hip_z + trunk,
             shoulder_half_width=0.11 * h,

@@ -103,23 +103,22 @@ def _pelvis(body: BodyDimensions) -> str:
         frames += _frame(f"{prefix}_shoulder", "pelvis", body.shoulder(side), np.zeros(3))
     frames += _frame("neck", "pelvis", np.array([0, 0, body.shoulder_z]), np.zeros(3))
     if body.seated:
-        geometry += _chair()
+        geometry += _chair(body.seat_height)
     mass = 45.0
     moments = box_inertia(mass, trunk_size)
     return _link("pelvis", np.zeros(3), mass, moments, geometry) + frames
 
 
-def _chair() -> str:
-    """A stool under a seated person: visual and collision, so the robot plans around it."""
-    from hsr_handover.world.person.body import SEAT_HEIGHT
-
+def _chair(height: float) -> str:
+    """A stool `height` (m) high under a seated person: visual and collision, so the robot
+    plans around it."""
     seat = shape(
-        "chair_seat", box_geometry((0.42, 0.42, 0.04)), (0, 0, SEAT_HEIGHT - 0.02, 0, 0, 0), CHAIR
+        "chair_seat", box_geometry((0.42, 0.42, 0.04)), (0, 0, height - 0.02, 0, 0, 0), CHAIR
     )
     post = shape(
         "chair_post",
-        box_geometry((0.06, 0.06, SEAT_HEIGHT - 0.04)),
-        (0, 0, (SEAT_HEIGHT - 0.04) / 2, 0, 0, 0),
+        box_geometry((0.06, 0.06, height - 0.04)),
+        (0, 0, (height - 0.04) / 2, 0, 0, 0),
         CHAIR,
     )
     return seat + post

@@ -95,7 +95,7 @@ def _add_plant(builder: DiagramBuilder, scenario: Scenario):
     plant, scene_graph = AddMultibodyPlant(config, builder)
     parser = Parser(plant)
     robot = add_hsr(plant, parser, resolve_model_path(scenario.robot.model, scenario.source))
-    body = BodyDimensions.from_height(scenario.person.height, scenario.person.posture == "seated")
+    body = scenario.person.body()
     table, person, objects = add_world(plant, parser, scenario, body)
     floor = add_floor(plant)
     start = robot_start_positions(scenario)

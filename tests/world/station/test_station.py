@@ -229,6 +229,31 @@ def test_standing_person_has_adult_proportions_and_clears_the_table(write_scenar
         assert height == pytest.approx(ratio * 1.85, abs=0.01), frame
 
 
+def test_a_higher_seat_raises_the_seated_person_and_the_chair_with_it(write_scenario):
+    """At a bar table a person sits on a bar stool: the seat's height lifts the whole seated
+    body, and the stool under it, by the difference."""
+    heights = {}
+    for seat in (0.45, 0.65):
+
+        def on_seat(data, seat=seat):
+            data["person"].update(posture="seated", seat_height=seat)
+
+        scenario = load_scenario(write_scenario(on_seat))
+        station = build_station(scenario)
+        context = station.diagram.CreateDefaultContext()
+        inspector = station.scene_graph.model_inspector()
+        stool = next(
+            g
+            for g in inspector.GetAllGeometryIds()
+            if inspector.GetName(g) == "person::chair_seat_collision"
+        )
+        top = inspector.GetPoseInFrame(stool).translation()[2] + 0.02  # the box is 4 cm thick
+        heights[seat] = (_frame_position(station, context, "coco_r_shoulder")[2], top)
+    assert heights[0.65][0] - heights[0.45][0] == pytest.approx(0.20, abs=1e-9)
+    assert heights[0.45][1] == pytest.approx(0.45, abs=1e-9)
+    assert heights[0.65][1] == pytest.approx(0.65, abs=1e-9)
+
+
 def test_a_dropped_object_lands_on_the_floor_and_the_hsr_still_drives(station_alone):
     diagram, plant = station_alone.diagram, station_alone.plant
     context = diagram.CreateDefaultContext()
