@@ -6,8 +6,9 @@ Every layout is one a person could arrange: the table stands before the robot wi
 edge NEAR_EDGE m ahead of the robot's nominal base; the objects stand on it in a row across
 it (or staggered, alternately STAGGER m nearer and farther), each its drawn spacing from the
 last and EDGE_MARGIN inside the top; the person stands or sits across the table, facing it
-within the drawn angle (the trial moves a seated person's chair back until their knees clear
-the table, `seating.sit_clear`); the robot's base, moved and turned, stays clear of the table.
+within the drawn angle, a seated person on a seat that suits the table (`seat_for_table`; the
+trial moves the chair back until their knees clear the table, `seating.sit_clear`); the
+robot's base, moved and turned, stays clear of the table.
 The same generator and seed give the same layouts wherever they run.
 """
 
@@ -22,6 +23,8 @@ import numpy as np
 from hsr_handover.interface.object_colors import OBJECT_COLORS
 from hsr_handover.scenario import ObjectConfig, Scenario
 from hsr_handover.scenario.writing import write_scenario
+from hsr_handover.world.person.behavior import OVER_TABLE
+from hsr_handover.world.person.body import FOREARM_RADIUS, BodyDimensions
 
 NEAR_EDGE = 0.65
 """m from the robot's nominal base to the table's near edge: the base moved 0.2 m toward it
@@ -35,6 +38,7 @@ EDGE_MARGIN = 0.06  # m an object's centre keeps inside the table's sides
 CUP_DIAMETER, CUP_HEIGHT = (0.06, 0.08), (0.09, 0.12)  # m
 BOX_SIDE, BOX_HEIGHT = (0.05, 0.07), (0.09, 0.12)  # m
 BOX_YAW = 0.5  # rad either way
+SEATS = (0.35, 0.80)  # m: a low chair's seat to a bar stool's
 
 
 def _uniform(rng: np.random.Generator, span) -> float:
@@ -57,6 +61,9 @@ def generate_layout(base: Scenario, rng: np.random.Generator) -> tuple[Scenario,
     person = scenario.person
     person.posture = "standing" if rng.random() < ranges.standing_probability else "seated"
     person.height = _uniform(rng, ranges.person_height)
+    seated = person.posture == "seated"
+    if seated:
+        person.seat_height = seat_for_table(person.height, table.height)
     back, along = _uniform(rng, ranges.person_back), _uniform(rng, ranges.person_along)
     facing = _uniform(rng, ranges.facing_deg)
     person.position = [NEAR_EDGE + depth + back, along]
@@ -71,8 +78,21 @@ def generate_layout(base: Scenario, rng: np.random.Generator) -> tuple[Scenario,
         "table_depth_m": depth, "table_width_m": width, "objects": len(scenario.objects),
         "arrangement": "staggered" if staggered else "row", "spacing_m": spacing,
         "base_dx_m": dx, "base_dy_m": dy, "base_yaw_rad": yaw,
+        "seat_height_m": person.seat_height if seated else None,
     }  # fmt: skip
     return scenario, drawn
+
+
+def seat_for_table(height: float, table_height: float) -> float:
+    """The seat (m, within SEATS) on which a seated person `height` m tall rests the forearms
+    level just over a table `table_height` m high, the elbows clear of its top by the
+    forearm's radius and OVER_TABLE: people sit so that a table is at their elbows (a bar
+    table comes with bar stools). On a dining chair's 0.45 m at generated tables up to 0.85 m,
+    a 1.50-1.65 m person's elbows were 10-20 cm under the top, and the hands, resting raised
+    over it, hid the face from the robot."""
+    body = BodyDimensions.from_height(height, seated=True, seat_height=0.0)
+    elbow = body.shoulder_z - body.upper_arm  # over the seat
+    return float(np.clip(table_height + FOREARM_RADIUS + OVER_TABLE - elbow, *SEATS))
 
 
 def _objects(

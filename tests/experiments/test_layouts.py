@@ -11,13 +11,16 @@ import numpy as np
 import pytest
 
 from hsr_handover.experiments.intent.trials import make_trials
-from hsr_handover.experiments.layouts import NEAR_EDGE, generate_layout
+from hsr_handover.experiments.layouts import NEAR_EDGE, SEATS, generate_layout, seat_for_table
 from hsr_handover.experiments.seating import sit_clear
 from hsr_handover.interface.object_colors import OBJECT_COLORS
 from hsr_handover.scenario import ScenarioError, load_scenario
 from hsr_handover.scenario.checks import check_scenario
 from hsr_handover.scenario.schema import LayoutsConfig
 from hsr_handover.scenario.writing import write_scenario
+from hsr_handover.world.person.aiming import arm_points
+from hsr_handover.world.person.behavior import OVER_TABLE, rest_posture
+from hsr_handover.world.person.body import FOREARM_RADIUS, arm_joint_indices
 from hsr_handover.world.station import build_station, initial_overlaps
 from tests.paths import SCENARIOS
 
@@ -55,6 +58,28 @@ def test_generated_layouts_pass_the_scenario_checks_and_stay_in_their_ranges():
     assert postures == {"seated", "standing"} and arrangements == {"row", "staggered"}
     alongs = [scenario.person.position[1] for scenario, _ in layouts]
     assert min(alongs) < -0.3 and max(alongs) > 0.3  # off the table's axis both ways
+
+
+def test_a_seated_person_sits_at_a_seat_that_rests_the_forearms_over_the_table():
+    """On one dining chair at every table, a short person's elbows were 10-20 cm under a high
+    table's top and the resting hands, raised over it, hid the face."""
+    _, layouts = _layouts(60)
+    seated = [(scenario, drawn) for scenario, drawn in layouts if drawn["posture"] == "seated"]
+    assert len(seated) >= 10
+    for scenario, drawn in layouts:
+        person, top = scenario.person, scenario.table.height
+        if drawn["posture"] == "standing":
+            assert drawn["seat_height_m"] is None
+            continue
+        assert SEATS[0] <= person.seat_height <= SEATS[1]
+        assert drawn["seat_height_m"] == person.seat_height
+        body = person.body()
+        rest = rest_posture(body, top)
+        np.testing.assert_array_equal(rest, rest_posture(body))  # the armrest rest, not raised
+        for arm in ("right", "left"):
+            elbow = arm_points(body, arm, rest[arm_joint_indices(arm)])["elbow"]
+            assert elbow[2] - FOREARM_RADIUS >= top + OVER_TABLE - 1e-9
+    assert seat_for_table(1.50, 0.85) > 0.6 > seat_for_table(1.95, 0.60)
 
 
 def test_nothing_overlaps_at_the_start_once_the_person_sits_clear():
