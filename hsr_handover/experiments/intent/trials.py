@@ -16,7 +16,6 @@ import numpy as np
 
 from hsr_handover.experiments.layouts import generate_layout
 from hsr_handover.scenario import ActionConfig, Scenario, VariationConfig, object_center
-from hsr_handover.world.person.body import BodyDimensions
 from hsr_handover.world.station import person_pose
 
 DISTRACTORS = ("gesture", "arm_on_table", "scratch_head", "look_only")
@@ -170,7 +169,7 @@ def script(scenario: Scenario, kind: str, target: str, request: Request) -> list
 def _table_rest_point(scenario: Scenario, arm: str) -> np.ndarray:
     """On the table top, 5 cm inside its edge, nearest the arm's shoulder: where an arm laid
     straight on the table rests."""
-    body = _body(scenario)
+    body = scenario.person.body()
     shoulder = person_pose(scenario) @ body.shoulder(arm)
     table = scenario.table
     c, s = math.cos(table.yaw), math.sin(table.yaw)
@@ -183,11 +182,7 @@ def _table_rest_point(scenario: Scenario, arm: str) -> np.ndarray:
 
 def _head_side(scenario: Scenario, arm: str) -> np.ndarray:
     """Beside the head on the arm's side: where a hand goes to scratch it."""
-    body = _body(scenario)
+    body = scenario.person.body()
     sign = 1.0 if arm == "left" else -1.0
     beside = body.head_center() + np.array([0.0, sign * (body.head_radius + 0.04), 0.0])
     return person_pose(scenario) @ beside
-
-
-def _body(scenario: Scenario) -> BodyDimensions:
-    return scenario.person.body()
