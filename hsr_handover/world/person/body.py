@@ -44,12 +44,10 @@ def side_sign(side: str) -> float:
 
 @dataclasses.dataclass(frozen=True)
 class BodyDimensions:
-    """Lengths (m) and rest positions of an adult of a given height, standing or seated (on a
-    seat `seat_height` m high: its top; standing, unused)."""
+    """Lengths (m) and rest positions of an adult of a given height, standing or seated."""
 
     height: float
     seated: bool
-    seat_height: float
     hip_z: float
     shoulder_z: float
     shoulder_half_width: float
@@ -74,7 +72,6 @@ class BodyDimensions:
         return cls(
             height=h,
             seated=seated,
-            seat_height=seat_height,
             hip_z=hip_z,
             shoulder_z=hip_z + trunk,
             shoulder_half_width=0.11 * h,
@@ -89,6 +86,11 @@ class BodyDimensions:
             ankle_z=0.039 * h,
             head_radius=0.056 * h,
         )
+
+    @property
+    def seat_height(self) -> float:
+        """m: the top of the seat a seated person sits on (the hips over it)."""
+        return self.hip_z - HIP_ABOVE_SEAT
 
     def shoulder(self, side: str) -> np.ndarray:
         return np.array([0.0, side_sign(side) * self.shoulder_half_width, self.shoulder_z])
