@@ -47,6 +47,14 @@ dragged it up out of the robot's fingers into them), or where it first touches t
 the way, and stops there: a hand that strikes what it reaches for closes on it, as people's
 do, rather than shoving it through the robot's fingers (which pushes a box out of them before
 the hand closes)."""
+MOVED = 0.03
+"""m the object may move from where the reach was aimed before the person aims again (the robot
+may still be bringing it closer as the hand sets off)."""
+CORRECTION_S = 0.1
+"""s from seeing the object move to the hand's path turning toward where it is now: people
+correct a reach in flight about 100 ms after its object is displaced (Paulignan et al. 1991,
+Exp. Brain Res. 83:502; Prablanc and Martin 1992). Aimed only where the object stood, a hand
+met the robot's finger pad that had carried the box 17 cm on into its path."""
 SETTLED = 0.002  # m a hand moves between two looks once it has stopped short of the point
 SETTLE_AFTER_S = 0.3  # s into the reach before a hand at rest counts as stopped
 GRIP_DISTANCE = REACH_SHORT + 0.05
@@ -130,6 +138,8 @@ class Receiver:
         self._first: dict[str, np.ndarray] = {}
         self._gripped_at = np.inf
         self._reach_for: tuple[float, np.ndarray] | None = None  # (from when, hand's point)
+        self._aimed_at = np.zeros(3)  # the object's centre when the reach was aimed
+        self._moved_since = math.inf  # since when the object has stood MOVED from there
         self._away = np.zeros(3)  # the unit direction the hand came from, from the object
         self._closed_at = np.zeros(3)  # where the hand closed
         self._hand_before: np.ndarray | None = None
@@ -179,9 +189,10 @@ class Receiver:
         touched: bool,
     ) -> list[tuple[float, np.ndarray]]:
         """Close the hand on the object at `target` if it got there (a hand that `touched` it
-        stops where it is); a hand stopped out of grip for a reaction time reaches again, for
-        where the object is now (people correct a reach whose object has moved: Prablanc and
-        Martin 1992, J. Neurophysiol. 67:455)."""
+        stops where it is); aim again, for where the object is now, CORRECTION_S after it moved
+        from where the reach was aimed, or a reaction time after the hand stopped out of grip
+        (people correct a reach whose object has moved: Prablanc and Martin 1992,
+        J. Neurophysiol. 67:455)."""
         since, point = self._reach_for
         before, self._hand_before = self._hand_before, hand
         arrived = np.linalg.norm(hand - point) <= ARRIVED
@@ -194,13 +205,19 @@ class Receiver:
             self.state, self.grip, self._gripped_at = Receiving.HOLDING, self._offered[0], time
             self._closed_at = hand
             return [(time, posture)] if touched and posture is not None else []
+        posture = self._rest if posture is None else posture
+        if np.linalg.norm(target - self._aimed_at) <= MOVED:
+            self._moved_since = math.inf
+        else:
+            self._moved_since = min(self._moved_since, time)
+            if time - self._moved_since >= CORRECTION_S - 1e-9:  # not before the reach began
+                return self._reach_for_object(max(time, since), target, gripper, posture)
         if not stopped:
             self._short_since = math.inf
             return []
         self._short_since = min(self._short_since, time)
         if time - self._short_since < self._params.reaction_s:
             return []
-        posture = self._rest if posture is None else posture
         return self._reach_for_object(time, target, gripper, posture)
 
     def _arms(self) -> tuple[str, ...]:
@@ -247,6 +264,7 @@ class Receiver:
         arm = posture[arm_joint_indices(self.arm)]
         reach = reach_point(self._body, self.arm, centre, gripper, arm)
         self._reach_for, self._hand_before, self._short_since = (start, reach), None, math.inf
+        self._aimed_at, self._moved_since = centre, math.inf
         self._away = (reach - centre) / np.linalg.norm(reach - centre)
         return [(start, self._posture(start, reach))]
 

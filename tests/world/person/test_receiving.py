@@ -16,8 +16,10 @@ from hsr_handover.world.person.body import ARM_JOINT_SUFFIXES, BodyDimensions, a
 from hsr_handover.world.person.receiving import (
     ARRIVED,
     CLEAR,
+    CORRECTION_S,
     DRAW_IN_S,
     GRIP_DISTANCE,
+    MOVED,
     PATH_SAMPLES,
     REACH_SHORT,
     SETTLE_AFTER_S,
@@ -133,7 +135,7 @@ def _stopped_short(reaction_s: float) -> tuple[Receiver, np.ndarray, float]:
 
 def test_a_hand_stopped_out_of_grip_reaches_again_for_where_the_object_is_now():
     receiver, stopped, short_since = _stopped_short(reaction_s=0.4)
-    moved = OFFERED + [0.0, 0.08, 0.0]  # the robot carried it on meanwhile
+    moved = OFFERED + [0.0, MOVED - 0.005, 0.0]  # nudged on, too little to correct the reach
     for time in short_since + np.array([0.0, 0.2, 0.38]):  # within the reaction time
         assert receiver.update(time, {"cup": moved}, stopped) == []
     ((start, posture),) = receiver.update(short_since + 0.42, {"cup": moved}, stopped)
@@ -143,6 +145,32 @@ def test_a_hand_stopped_out_of_grip_reaches_again_for_where_the_object_is_now():
     assert receiver.update(start + 0.05, {"cup": moved}, stopped) == []  # on its way
     assert receiver.update(start + 0.5, {"cup": moved}, hand) == []  # there: it closes
     assert receiver.state is Receiving.HOLDING and receiver.grip == "cup"
+
+
+def test_a_reach_whose_object_moves_on_turns_toward_where_it_is_a_moment_later():
+    receiver = Receiver(BODY, ReceivingParams(reaction_s=0.4))
+    receiver.update(0.0, {"cup": ON_TABLE}, SHOULDER)
+    ((reach_start, _),) = _offer(receiver, start=0.05, seconds=0.4)
+    carried = OFFERED + [-0.02, 0.05, 0.0]  # the robot brings it on
+    # Seen moved before the hand set off: the corrected reach still starts after the reaction.
+    assert receiver.update(reach_start - 0.3, {"cup": carried}, SHOULDER) == []
+    ((start, posture),) = receiver.update(reach_start - 0.3 + CORRECTION_S, {"cup": carried},
+                                          SHOULDER)  # fmt: skip
+    assert start == pytest.approx(reach_start)
+    hand = arm_points(BODY, "right", posture[arm_joint_indices("right")])["hand"]
+    np.testing.assert_allclose(hand, reach_point(BODY, "right", carried), atol=0.01)
+    # Moved on again in flight: the hand turns toward it CORRECTION_S later, not before.
+    farther = carried + [-0.02, 0.05, 0.02]
+    moving = (hand + SHOULDER) / 2
+    assert receiver.update(reach_start + 0.1, {"cup": farther}, moving) == []
+    assert receiver.update(reach_start + 0.1 + CORRECTION_S / 2, {"cup": farther}, moving) == []
+    ((start, posture),) = receiver.update(reach_start + 0.1 + CORRECTION_S, {"cup": farther},
+                                          moving)  # fmt: skip
+    assert start == pytest.approx(reach_start + 0.1 + CORRECTION_S)
+    hand = arm_points(BODY, "right", posture[arm_joint_indices("right")])["hand"]
+    np.testing.assert_allclose(hand, reach_point(BODY, "right", farther), atol=0.01)
+    # Held still where it was aimed at: no more corrections.
+    assert receiver.update(start + 0.3, {"cup": farther}, moving + [0.01, 0, 0]) == []
 
 
 def test_a_reach_stopped_out_of_grip_for_the_other_hand_is_made_with_it():
