@@ -9,8 +9,9 @@ footprint decides: the smallest enclosing circle and rectangle (`cv2.minEnclosin
 `cv2.minAreaRect`), the tighter one. A cup's circle is its side's fit; a box is turned as its
 faces are and spans all its points, the lid's included (the smallest rectangle around two
 faces seen corner on lies along their diagonal: a 6.5 by 6.9 cm box read as 4.1 by 8.4 cm,
-turned 34 degrees, and the gripper closed on its corner). The height runs from the table's
-top to the highest point.
+turned 34 degrees, and the gripper closed on its corner); one that shows a single face, its
+lid unseen, is taken as deep as it is wide (ONE_FACE). The height runs from the table's top to
+the highest point.
 """
 
 from __future__ import annotations
@@ -36,6 +37,12 @@ SIDE_BELOW_TOP = 0.015
 """m: points this far under an object's highest are its side (nearer, the rim's or lid's edge)."""
 MIN_SIDE_POINTS = 30
 """Side points that name a shape: fewer, and the footprint does."""
+ONE_FACE = 0.015
+"""m: a box read thinner than this across shows one face only, its lid unseen (a camera level
+with the lid). Its depth is hidden behind that face: it is taken as deep as the face is wide,
+behind it as the camera sees it. Read as it stood, a 5.7 by 6.4 cm box was 1 mm deep, its
+centre on its front face 3.7 cm from the true one, and the gripper closed on the face's
+edge and pushed the box out."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -86,9 +93,12 @@ def object_points(
     return points[near & (points[:, 2] > table_height + ABOVE_TABLE)]
 
 
-def fit_shape(label: str, points: np.ndarray, table_height: float) -> ObjectShape | None:
+def fit_shape(
+    label: str, points: np.ndarray, table_height: float, viewpoint: np.ndarray | None = None
+) -> ObjectShape | None:
     """The cylinder or box standing on a table whose top is at `table_height` that the points
-    (N, 3) of one object show; None with fewer than MIN_POINTS points."""
+    (N, 3) of one object show, seen by a camera at `viewpoint` (x, y; None: a box is only as
+    deep as its points, see ONE_FACE); None with fewer than MIN_POINTS points."""
     if len(points) < MIN_POINTS:
         return None
     top = float(points[:, 2].max())
@@ -96,12 +106,16 @@ def fit_shape(label: str, points: np.ndarray, table_height: float) -> ObjectShap
     xy = points[:, :2].astype(np.float32)
     side = points[points[:, 2] < top - SIDE_BELOW_TOP, :2]
     if len(side) < MIN_SIDE_POINTS:
-        return _tighter_footprint(label, xy, table_height, height)
-    circle, rectangle = fit_circle(side), fit_rectangle(side)
-    # a flat face is an arc of a huge circle: a round side is no wider than a graspable object
-    if circle.radius <= MAX_OBJECT_RADIUS and circle.deviation < rectangle.deviation:
-        return _cylinder(label, circle.center, circle.radius, table_height, height)
-    return _box_along(label, xy, rectangle.yaw, table_height, height)
+        shape = _tighter_footprint(label, xy, table_height, height)
+    else:
+        circle, rectangle = fit_circle(side), fit_rectangle(side)
+        # a flat face is an arc of a huge circle: a round side is no wider than a graspable object
+        if circle.radius <= MAX_OBJECT_RADIUS and circle.deviation < rectangle.deviation:
+            return _cylinder(label, circle.center, circle.radius, table_height, height)
+        shape = _box_along(label, xy, rectangle.yaw, table_height, height)
+    if shape.kind != BOX or viewpoint is None:
+        return shape
+    return _deepened(shape, np.asarray(viewpoint, dtype=float))
 
 
 def _tighter_footprint(
@@ -131,6 +145,21 @@ def _box_along(
                        height)  # fmt: skip
 
 
+def _deepened(shape: ObjectShape, viewpoint: np.ndarray) -> ObjectShape:
+    """`shape`, a box; if it is thinner than ONE_FACE across, as deep as it is wide, the depth
+    added on the far side of the face from `viewpoint` (x, y)."""
+    thin = int(shape.size[1] < shape.size[0])
+    if shape.size[thin] >= ONE_FACE:
+        return shape
+    across = np.array([math.cos(shape.yaw), math.sin(shape.yaw)])
+    across = across if thin == 0 else np.array([-across[1], across[0]])
+    away = across if across @ (shape.center - viewpoint) >= 0 else -across
+    size = shape.size.copy()
+    size[thin] = size[1 - thin]
+    center = shape.center + away * (size[thin] - shape.size[thin]) / 2
+    return dataclasses.replace(shape, center=center, size=size)
+
+
 def measure_objects(
     detections, depth: np.ndarray, camera: PinholeCamera, X_WC: np.ndarray, table_height: float
 ) -> list[ObjectShape]:
@@ -141,7 +170,7 @@ def measure_objects(
         if not np.all(np.isfinite(detection.center)):
             continue
         points = object_points(detection, depth, camera, X_WC, table_height)
-        shape = fit_shape(detection.label, points, table_height)
+        shape = fit_shape(detection.label, points, table_height, X_WC[:2, 3])
         if shape is not None:
             shapes.append(shape)
     return shapes

@@ -10,7 +10,13 @@ import numpy as np
 import pytest
 
 from hsr_handover.interface.coco18 import NUM_KEYPOINTS, keypoint_index
-from hsr_handover.robot.perception.object_shapes import BOX, CYLINDER, MIN_POINTS, fit_shape
+from hsr_handover.robot.perception.object_shapes import (
+    BOX,
+    CYLINDER,
+    MIN_POINTS,
+    ONE_FACE,
+    fit_shape,
+)
 from hsr_handover.robot.perception.table_fit import TableEstimate
 from hsr_handover.robot.planning.perceived_scene import (
     BODY_COLUMN_RADIUS,
@@ -124,6 +130,36 @@ def test_a_box_seen_corner_on_and_level_with_its_lid_is_a_box_turned_as_its_face
     assert math.sin(turned - yaw) == pytest.approx(0.0, abs=0.05)
     assert sorted(shape.size) == pytest.approx([0.06, 0.07], abs=2e-3 + 4 * noise)
     np.testing.assert_allclose(shape.center, center, atol=2e-3 + 2 * noise)
+
+
+@pytest.mark.parametrize("noise", [0.0, 0.0015])
+def test_a_box_seen_by_its_front_face_alone_is_as_deep_as_wide_behind_that_face(noise):
+    """A camera level with the lid sees one face: the box is taken as deep as the face is wide,
+    on the face's far side from the camera, not as a sheet standing on the face."""
+    rng = np.random.default_rng(4)
+    center, width, depth = np.array([0.9, -0.3]), 0.064, 0.057
+    toward = -center / np.linalg.norm(center)  # the face's normal, toward the camera
+    along = np.array([-toward[1], toward[0]])
+    face = center + toward * depth / 2 + np.outer(rng.uniform(-width / 2, width / 2, 500), along)
+    points = np.column_stack([face, rng.uniform(TABLE_TOP, TABLE_TOP + 0.11, 500)])
+    points = _seen_level_with_its_top(points, rng, noise)
+    sheet = fit_shape("cyan", points, TABLE_TOP)
+    assert sheet.kind == BOX and min(sheet.size) < ONE_FACE
+    shape = fit_shape("cyan", points, TABLE_TOP, viewpoint=np.zeros(2))
+    assert shape.kind == BOX
+    assert sorted(shape.size) == pytest.approx([width, width], abs=2e-3 + 4 * noise)
+    np.testing.assert_allclose(shape.center, center, atol=depth / 2 - width / 2 + 0.01)
+    assert np.linalg.norm(shape.center) > np.linalg.norm(sheet.center) + 0.02  # behind the face
+
+
+def test_a_box_showing_its_depth_keeps_its_size_with_the_camera_known():
+    rng = np.random.default_rng(3)
+    center, yaw = np.array([0.85, -0.15]), math.atan2(-0.15, 0.85) + math.radians(45.0)
+    points = _box_seen_from_the_origin(center, (0.07, 0.06), yaw, 0.11, rng)
+    seen = fit_shape("blue", points, TABLE_TOP)
+    known = fit_shape("blue", points, TABLE_TOP, viewpoint=np.zeros(2))
+    np.testing.assert_allclose(known.size, seen.size)
+    np.testing.assert_allclose(known.center, seen.center)
 
 
 def test_too_few_points_make_no_shape():
