@@ -1,11 +1,10 @@
-"""The person taking the object (the world side): once the robot holds an object out
-within reach and still, the person reaches for it after a reaction time (turning toward where
-it is now if it moves on, and reaching again if the hand stops out of grip), closes the hand on
-it when the hand gets there and,
-a moment later, draws it in: the tug a robot feels and lets go at
-(a person does not wait to be told the gripper has opened). The hand comes at the object from
-the side the robot's fingers leave free, as people do: straight from the shoulder when it can,
-else turned round the object, from below or from above.
+"""The person taking the object (the world side): once the robot holds an object out within
+reach and still, the person reaches for it after a reaction time (turning toward where it is
+now if it moves on, and reaching again if the hand stops out of grip), closes the hand on it
+when the hand gets there and, a moment later, draws it in: the tug a robot feels and lets go
+at (a person does not wait to be told the gripper has opened). The hand comes at the object
+from the side the robot's fingers leave free, as people do: straight from the shoulder when it
+can, else turned round the object, from below or from above.
 
 The person is part of the world: it may know where the objects and the robot's fingers truly
 are. Points here are in the person frame (`hsr_handover.world.station.world.person_pose`).
