@@ -40,9 +40,9 @@ MIN_SIDE_POINTS = 30
 ONE_FACE = 0.015
 """m: a box read thinner than this across shows one face only, its lid unseen (a camera level
 with the lid). Its depth is hidden behind that face: it is taken as deep as the face is wide,
-behind it as the camera sees it. Read as it stood, a 5.7 by 6.4 cm box was 1 mm deep, its
-centre on its front face 3.7 cm from the true one, and the gripper closed on the face's
-edge and pushed the box out."""
+behind it as the camera sees it. Read from its points alone, a 5.7 by 6.4 cm box was 1 mm
+deep, its centre on its front face 3.7 cm from the true one, and the gripper, closing across
+that millimetre, pushed the box out."""
 
 
 @dataclasses.dataclass(frozen=True)

@@ -53,8 +53,8 @@ may still be bringing it closer as the hand sets off)."""
 CORRECTION_S = 0.1
 """s from seeing the object move to the hand's path turning toward where it is now: people
 correct a reach in flight about 100 ms after its object is displaced (Paulignan et al. 1991,
-Exp. Brain Res. 83:502; Prablanc and Martin 1992). Aimed only where the object stood, a hand
-met the robot's finger pad that had carried the box 17 cm on into its path."""
+Exp. Brain Res. 83:502; Prablanc and Martin 1992). Aimed only where the object first stood
+still, a hand met the finger pad of a robot that had brought the box 17 cm on, into its path."""
 SETTLED = 0.002  # m a hand moves between two looks once it has stopped short of the point
 SETTLE_AFTER_S = 0.3  # s into the reach before a hand at rest counts as stopped
 GRIP_DISTANCE = REACH_SHORT + 0.05
@@ -210,7 +210,8 @@ class Receiver:
             self._moved_since = math.inf
         else:
             self._moved_since = min(self._moved_since, time)
-            if time - self._moved_since >= CORRECTION_S - 1e-9:  # not before the reach began
+            if time - self._moved_since >= CORRECTION_S - 1e-9:
+                # A move seen within the reaction time turns the reach it has not yet begun.
                 return self._reach_for_object(max(time, since), target, gripper, posture)
         if not stopped:
             self._short_since = math.inf
