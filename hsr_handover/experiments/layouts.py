@@ -91,9 +91,9 @@ def seat_for_table(height: float, table_height: float) -> float:
     a 1.50-1.65 m person's elbows were 10-20 cm under the top, and the hands, resting raised
     over it, hid the face from the robot."""
     body = BodyDimensions.from_height(height, seated=True, seat_height=0.0)
-    elbow = (
-        body.shoulder_z - body.upper_arm
-    )  # over the seat, the upper arm hanging: the rest's, bent forward, is higher
+    # Over the seat, the upper arm hanging: the rest's, bent forward, is about 1 cm higher,
+    # so the seat errs low, the safe side.
+    elbow = body.shoulder_z - body.upper_arm
     return float(np.clip(table_height + FOREARM_RADIUS + OVER_TABLE - elbow, *SEATS))
 
 

@@ -44,12 +44,11 @@ OVER_TABLE = 0.02
 """m a seated person's resting hands keep over the table's top. Forearms resting level sit at
 0.70-0.76 m, under the top of a high table (0.80 m): a hand whose tip rested a few cm from the
 table's edge met the edge as the arm swung out, and stayed there for the whole gesture: the
-person never pointed. At such a table the forearms rest
-tilted up, the elbows bent further, as people hold their hands over a table's edge; and where
-the elbow would still be under the top, the upper arm comes forward until it is over it (the
-forearms rest on the table): a 1.55 m person seated at a 0.77 m table, elbow under the top and
-hand over it, jammed the forearm against the edge from below as the arm swung up to point
-(700 N; generated layouts)."""
+person never pointed. At such a table the forearms rest tilted up, the elbows bent further,
+as people hold their hands over a table's edge; and where the elbow would still be under the
+top, the upper arm comes forward until it is over it (the forearms rest on the table): a
+1.55 m person seated at a 0.77 m table, elbow under the top and hand over it, jammed the
+forearm against the edge from below as the arm swung up to point (700 N; generated layouts)."""
 RAISE_STEP = 0.1  # rad: the elbow (or the shoulder) turns by steps of this
 WITHDRAW_ELBOW = -1.6
 """rad: a pointing hand held over an object is drawn back by bending the elbow this far (the
